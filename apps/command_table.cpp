@@ -1,0 +1,21 @@
+#include <array>
+
+#include "command.hpp"
+
+namespace cambio::app {
+
+// One declaration and one table row per subcommand; each lives in <name>_command.cpp.
+int run_check_config_command(std::span<const std::string> args);
+int run_loop_bench_command(std::span<const std::string> args);
+int run_run_command(std::span<const std::string> args);
+
+std::span<const Command> all_commands() {
+  static const std::array kCommands = {
+      Command{"run", "run an experiment (the main job)", &run_run_command},
+      Command{"check-config", "validate a rig file and print its summary", &run_check_config_command},
+      Command{"loop-bench", "measure loop wake-up latency on this machine", &run_loop_bench_command},
+  };
+  return kCommands;
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,24 @@
+# Per-target compile settings. Using target properties keeps them immune to packages (ViSP) that
+# rewrite CMAKE_CXX_STANDARD or CMAKE_CXX_FLAGS.
+function(cambio_set_target_options target)
+  set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF POSITION_INDEPENDENT_CODE ON)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor)
+  if(CAMBIO_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(CAMBIO_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                             -fno-sanitize-recover=undefined)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# A library of this project: cambio_<name> with the alias cambio::<name>, exported for install.
+function(cambio_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
+  add_library(cambio_${name} ${ARG_SOURCES})
+  add_library(cambio::${name} ALIAS cambio_${name})
+  set_target_properties(cambio_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME cambio_${name})
+  cambio_set_target_options(cambio_${name})
+endfunction()

@@ -1,0 +1,54 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace cambio::runtime {
+
+/// A fixed-size latency histogram: 1 µs buckets up to 10 ms, then an overflow count. Recording is
+/// O(1), allocation-free and real-time safe; percentiles are read after the run.
+class LatencyHistogram {
+ public:
+  static constexpr int kBucketCount = 10'000;  // 1 µs each: 0 .. 10 ms.
+
+  void record_ns(std::int64_t latency_ns) noexcept;
+  std::uint64_t count() const { return count_; }
+  std::int64_t max_ns() const { return max_ns_; }
+  std::int64_t min_ns() const { return count_ == 0 ? 0 : min_ns_; }
+  double mean_ns() const { return count_ == 0 ? 0.0 : static_cast<double>(sum_ns_) / count_; }
+  /// The smallest latency (µs, bucket upper edge) below which `fraction` of samples fall;
+  /// samples past 10 ms report the maximum seen.
+  double percentile_us(double fraction) const;
+
+ private:
+  std::array<std::uint32_t, kBucketCount> buckets_{};
+  std::uint64_t overflow_ = 0;
+  std::uint64_t count_ = 0;
+  std::int64_t sum_ns_ = 0;
+  std::int64_t max_ns_ = 0;
+  std::int64_t min_ns_ = INT64_MAX;
+};
+
+/// What one loop did over a run.
+struct LoopStatistics {
+  std::string name;
+  double rate_hz = 0.0;
+  std::uint64_t cycles = 0;
+  std::uint64_t overruns = 0;         ///< Cycles whose update ended after the next deadline.
+  std::uint64_t skipped_cycles = 0;   ///< Deadlines dropped by the skip overrun policy.
+  std::uint64_t failed_updates = 0;   ///< update() returned something other than kOk/kNoNewData.
+  std::uint64_t allocations = 0;      ///< Heap allocations made by update() calls.
+  LatencyHistogram wakeup_latency;    ///< now - deadline at the start of each update.
+  LatencyHistogram execution_time;    ///< Duration of each update.
+  bool realtime_priority_granted = false;
+  bool cpu_affinity_granted = false;
+};
+
+/// Human-readable table of several loops' statistics.
+std::string format_statistics_table(const LoopStatistics* stats, std::size_t count);
+/// One JSON object for a loop: name, rate_hz, cycles, p50_us, p99_us, p999_us, max_us, overruns,
+/// allocations_per_cycle, execution p50/p99/max.
+std::string statistics_json(const LoopStatistics& stats);
+
+}  // namespace cambio::runtime

@@ -1,0 +1,154 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "cambio/config/config_error.hpp"
+
+namespace cambio::config {
+
+/// Where issues found while reading one document accumulate.
+class IssueList {
+ public:
+  void add(ConfigIssue issue) { issues_.push_back(std::move(issue)); }
+  bool empty() const { return issues_.empty(); }
+  const std::vector<ConfigIssue>& issues() const { return issues_; }
+  /// Throws ConfigError with every issue if there is any.
+  void throw_if_any() const;
+
+ private:
+  std::vector<ConfigIssue> issues_;
+};
+
+/// Inclusive or exclusive bounds on a number.
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_exclusive = false;
+  bool max_exclusive = false;
+
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  bool contains(double value) const;
+  std::string describe() const;  ///< e.g. "> 0", "in [1, 127]".
+};
+
+/// Reads one YAML map with validation. Accessors never throw on bad input: they record an
+/// issue (file, line, column, key path, expected vs found) in the shared IssueList and return
+/// the fallback, so a whole file is checked in one pass. Call finish() once all keys were read:
+/// it reports keys nobody asked for, with a "did you mean" suggestion.
+///
+/// Keys carry units: number("max_velocity_rad_s"). angle_rad("min_position") accepts either
+/// "min_position_rad" or "min_position_deg" (converted at load) and refuses both at once.
+class MapReader {
+ public:
+  /// `node` must be a map (an issue is recorded otherwise and every read returns fallbacks).
+  MapReader(YAML::Node node, std::string key_path, std::string file,
+            std::shared_ptr<IssueList> issues);
+
+  bool has(std::string_view key) const;
+
+  double number(std::string_view key, Range range = {});
+  double number_or(std::string_view key, double fallback, Range range = {});
+  std::int64_t integer(std::string_view key, Range range = {});
+  std::int64_t integer_or(std::string_view key, std::int64_t fallback, Range range = {});
+  bool boolean(std::string_view key);
+  bool boolean_or(std::string_view key, bool fallback);
+  std::string text(std::string_view key);
+  std::string text_or(std::string_view key, std::string fallback);
+  /// A string that must be one of `allowed`; the issue lists them.
+  std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed);
+  std::string choice_or(std::string_view key, std::initializer_list<std::string_view> allowed,
+                        std::string fallback);
+  /// Reads `<stem>_rad` or `<stem>_deg` (degrees converted to radians); `range_rad` in radians.
+  double angle_rad(std::string_view stem, Range range_rad = {});
+  double angle_rad_or(std::string_view stem, double fallback_rad, Range range_rad = {});
+  std::array<double, 3> vector3(std::string_view key, Range each = {});
+  std::array<double, 3> vector3_or(std::string_view key, std::array<double, 3> fallback,
+                                   Range each = {});
+  /// Reads `<stem>_rad` or `<stem>_deg` as three angles (roll, pitch, yaw).
+  std::array<double, 3> angles3_rad_or(std::string_view stem, std::array<double, 3> fallback);
+  std::vector<double> numbers(std::string_view key, Range each = {});
+  std::vector<std::string> strings(std::string_view key);
+  std::vector<std::string> strings_or(std::string_view key, std::vector<std::string> fallback);
+
+  /// A required sub-map.
+  MapReader map(std::string_view key);
+  /// An optional sub-map: nullopt when the key is absent.
+  std::optional<MapReader> optional_map(std::string_view key);
+  /// The entries of a map keyed by name (`joints: {neck_pan: {...}, ...}`), in file order.
+  /// Each value must be a map.
+  std::vector<std::pair<std::string, MapReader>> named_maps(std::string_view key);
+  /// A list of maps (`objects: [{...}, ...]`), each located at its own line.
+  std::vector<MapReader> map_list(std::string_view key);
+
+  /// Records an issue located at `key` (or at this map if the key is absent): for consistency
+  /// checks that span several keys, e.g. "min_position_rad (1.2) is above max_position_rad (0.5)".
+  void error(std::string_view key, std::string message);
+  /// Reports unknown keys (with a "did you mean"). Call after every key was read.
+  void finish();
+
+  const std::string& key_path() const { return key_path_; }
+  const std::string& file() const { return file_; }
+  std::string child_path(std::string_view key) const;
+  const std::shared_ptr<IssueList>& issues() const { return issues_; }
+
+ private:
+  YAML::Node lookup(std::string_view key);
+  void record(const YAML::Node& at, std::string_view key, std::string message);
+
+  YAML::Node node_;
+  std::string key_path_;
+  std::string file_;
+  std::shared_ptr<IssueList> issues_;
+  std::set<std::string, std::less<>> read_keys_;
+  bool valid_ = true;
+};
+
+/// A `--set key.path=value` override from the command line.
+struct ConfigOverride {
+  std::string key_path;
+  std::string value;  ///< Parsed as a YAML scalar or flow sequence/map ("[1, 2]").
+};
+
+/// Parses "key.path=value"; throws ConfigError (file "--set") if malformed.
+ConfigOverride parse_override(std::string_view text);
+
+/// A YAML document loaded from a file (or a string, for tests), with overrides applied on top
+/// before anything reads it. Overridden values are reported with file "--set".
+class ConfigDocument {
+ public:
+  /// Throws ConfigError for an unreadable file or a YAML syntax error (with its line).
+  static ConfigDocument load_file(const std::string& path,
+                                  const std::vector<ConfigOverride>& overrides = {});
+  static ConfigDocument from_string(const std::string& text, const std::string& name,
+                                    const std::vector<ConfigOverride>& overrides = {});
+
+  /// The top-level map, reading into this document's IssueList.
+  MapReader root();
+  const std::string& file() const { return file_; }
+  const std::shared_ptr<IssueList>& issues() const { return issues_; }
+
+ private:
+  ConfigDocument(YAML::Node root, std::string file);
+  YAML::Node root_;
+  std::string file_;
+  std::shared_ptr<IssueList> issues_;
+};
+
+/// Levenshtein distance, for "did you mean" suggestions.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+
+}  // namespace cambio::config

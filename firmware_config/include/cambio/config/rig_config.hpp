@@ -1,0 +1,146 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cambio::config {
+
+/// A position and orientation of a child frame in its parent frame: translation in metres, then
+/// roll-pitch-yaw (rad) applied as R = Rz(yaw) * Ry(pitch) * Rx(roll) (URDF's convention).
+struct Pose {
+  std::array<double, 3> xyz_m{0.0, 0.0, 0.0};
+  std::array<double, 3> rpy_rad{0.0, 0.0, 0.0};
+};
+
+enum class ServoCommandMode : std::uint8_t { kPosition, kVelocity };
+
+/// The noisy servo model of the sim (the paper's "controlled Gaussian errors") and what a real
+/// drive is commanded in.
+struct ServoConfig {
+  ServoCommandMode command = ServoCommandMode::kPosition;
+  double dead_time_s = 0.0;              ///< Delay between a command and its first effect.
+  double motion_noise_std_rad = 0.0;     ///< Gaussian error added to each executed motion.
+  std::int64_t encoder_counts_per_rev = 0;  ///< Encoder quantisation; 0 = ideal encoder.
+  double backlash_rad = 0.0;             ///< Dead band on direction reversal; 0 = none.
+};
+
+/// CANopen CiA 402 settings of the drive behind a joint (used when its group's backend is
+/// socketcan, or by the sim's virtual CAN rig).
+struct JointCanConfig {
+  int node_id = 0;                        ///< 1..127.
+  double gear_ratio = 1.0;                ///< Motor turns per joint turn.
+  std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
+};
+
+/// A revolute joint (every joint of the Câmbio robot turns, the grippers' fingers included).
+struct JointConfig {
+  std::string name;
+  std::string group;
+  /// The link this joint hangs from: "base" or the name of another joint (each joint moves a
+  /// link named after it).
+  std::string parent = "base";
+  Pose origin;                           ///< Joint frame in the parent link frame at zero.
+  std::array<double, 3> axis{0.0, 0.0, 1.0};  ///< Unit vector in the joint frame.
+  double min_position_rad = 0.0;
+  double max_position_rad = 0.0;
+  double max_velocity_rad_s = 0.0;
+  double max_acceleration_rad_s2 = 0.0;
+  double max_effort_nm = 0.0;            ///< 0 = not limited by the stack (the drive limits it).
+  double initial_position_rad = 0.0;
+  ServoConfig servo;
+  std::optional<JointCanConfig> can;
+};
+
+struct JointGroupConfig {
+  std::string name;
+  std::string backend;              ///< "sim" or "socketcan".
+  std::vector<std::string> joints;  ///< Order of the group's read()/write() spans.
+  std::string can_bus;              ///< Name in RigConfig::can_buses; needed by socketcan.
+};
+
+enum class PixelFormatConfig : std::uint8_t { kGrey8, kRgb8 };
+
+struct CameraConfig {
+  std::string name;
+  std::string backend;  ///< "sim".
+  /// Link the camera is mounted on: "base" or a joint's name.
+  std::string parent;
+  /// Pose of the camera's optical frame (z forward, x right, y down: OpenCV's) in the parent.
+  Pose mount;
+  int width_px = 0;
+  int height_px = 0;
+  double focal_x_px = 0.0;
+  double focal_y_px = 0.0;
+  double principal_x_px = 0.0;  ///< From the top-left pixel's centre.
+  double principal_y_px = 0.0;
+  PixelFormatConfig format = PixelFormatConfig::kRgb8;
+  double image_noise_std = 0.0;  ///< Sim: Gaussian noise on grey levels (0-255 scale).
+};
+
+struct StereoConfig {
+  std::string left_camera;
+  std::string right_camera;
+  double baseline_m = 0.0;  ///< Distance between the two eyes' pan axes.
+};
+
+struct TouchSensorConfig {
+  std::string name;
+  std::string parent;  ///< The link (joint name) whose geometry is the end effector.
+};
+
+struct CanBusConfig {
+  std::string name;
+  std::string interface;  ///< Kernel interface, e.g. "can0", "vcan0".
+  std::int64_t bitrate_bit_s = 1'000'000;
+  bool fd = false;
+  std::int64_t data_bitrate_bit_s = 0;  ///< FD data phase; 0 when fd is false.
+};
+
+enum class OverrunPolicy : std::uint8_t {
+  kSkip,     ///< Drop the missed cycles; next deadline is the next one in the future.
+  kCatchUp,  ///< Run the missed cycles back to back.
+};
+
+struct LoopConfig {
+  std::string name;
+  double rate_hz = 0.0;
+  int priority = 0;  ///< SCHED_FIFO priority 1..99; 0 = normal scheduling.
+  int cpu = -1;      ///< CPU to pin the loop's thread to; -1 = any.
+  OverrunPolicy overrun = OverrunPolicy::kSkip;
+};
+
+struct SimConfig {
+  double physics_rate_hz = 1000.0;
+};
+
+struct RuntimeConfig {
+  bool lock_memory = false;  ///< mlockall(MCL_CURRENT | MCL_FUTURE) in the realtime executor.
+};
+
+/// A whole robot, as loaded from rigs/*.yaml. Const after loading; everything else is derived
+/// from it (the sim's MJCF, the CAN PDO maps, the HAL infos).
+struct RigConfig {
+  std::string source_file;  ///< Where it was loaded from, for messages.
+  std::string name;
+  std::vector<JointConfig> joints;
+  std::vector<JointGroupConfig> groups;
+  std::vector<CameraConfig> cameras;
+  std::optional<StereoConfig> stereo;
+  std::vector<TouchSensorConfig> touch_sensors;
+  std::vector<CanBusConfig> can_buses;
+  std::vector<LoopConfig> loops;  ///< Always holds joint, control, perception and camera.
+  SimConfig sim;
+  RuntimeConfig runtime;
+
+  const JointConfig* find_joint(const std::string& joint_name) const;
+  const JointGroupConfig* find_group(const std::string& group_name) const;
+  const CameraConfig* find_camera(const std::string& camera_name) const;
+  const LoopConfig* find_loop(const std::string& loop_name) const;
+  const CanBusConfig* find_can_bus(const std::string& bus_name) const;
+};
+
+}  // namespace cambio::config

@@ -1,0 +1,31 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cambio/config/map_reader.hpp"
+#include "cambio/config/rig_config.hpp"
+
+namespace cambio::config {
+
+/// Loads and validates a rig file (rigs/*.yaml), overrides applied first. Throws ConfigError
+/// with every problem found: unknown or missing keys, wrong types, out-of-range values and
+/// inconsistent settings (a lower limit above the upper one, a rate of 0, a group naming an
+/// unknown joint, a joint in two groups, a stereo baseline that disagrees with the eyes' joint
+/// origins, a socketcan group without a bus, duplicate CAN node ids on one bus, ...).
+RigConfig load_rig(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
+/// The same from YAML text (tests); `name` stands for the file in messages.
+RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
+                               const std::vector<ConfigOverride>& overrides = {});
+/// Reads a rig from an already loaded document (for callers that embed a rig).
+RigConfig read_rig(MapReader root, const std::string& file);
+
+/// Default loops when the rig file does not define them: joint 1000 Hz, control 200 Hz,
+/// perception 60 Hz, camera 30 Hz.
+std::vector<LoopConfig> default_loops();
+
+/// Directory of the shipped YAML: the install prefix's share/cambio/firmware_config when the
+/// program is installed, else the source tree's firmware_config/. Overridden by $CAMBIO_CONFIG_DIR.
+std::string shipped_config_dir();
+
+}  // namespace cambio::config

@@ -1,0 +1,56 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "cambio/hal/status.hpp"
+
+namespace cambio::hal {
+
+/// One CAN frame, classic or FD. Fixed size so frames move without allocation.
+/// Byte layout on the wire follows Linux <linux/can.h>: `id` holds the 11- or 29-bit identifier
+/// (no flag bits); the flags are separate fields here.
+struct CanFrame {
+  static constexpr std::uint8_t kMaxClassicDataBytes = 8;
+  static constexpr std::uint8_t kMaxFdDataBytes = 64;
+
+  std::uint32_t id = 0;
+  bool extended_id = false;      ///< 29-bit identifier.
+  bool remote_request = false;   ///< RTR (classic only).
+  bool error_frame = false;      ///< Error frame reported by the controller; `data` holds its class.
+  bool fd = false;               ///< CAN FD frame (up to 64 data bytes).
+  bool bit_rate_switch = false;  ///< FD BRS: data phase at the data bit rate.
+  std::uint8_t length = 0;       ///< Data bytes (0-8 classic; FD: 0-8,12,16,20,24,32,48,64).
+  std::array<std::uint8_t, kMaxFdDataBytes> data{};
+  std::int64_t stamp_ns = 0;  ///< Receive time (kernel timestamp where available).
+};
+
+/// Controller state per ISO 11898-1 fault confinement.
+enum class CanBusState : std::uint8_t { kErrorActive, kErrorWarning, kErrorPassive, kBusOff, kDown };
+
+struct CanBusStatus {
+  CanBusState state = CanBusState::kDown;
+  std::uint16_t tx_error_count = 0;
+  std::uint16_t rx_error_count = 0;
+  std::uint64_t frames_sent = 0;
+  std::uint64_t frames_received = 0;
+  std::uint64_t frames_dropped = 0;  ///< Send queue full or receive overruns.
+};
+
+/// A CAN interface (SocketCAN, or the in-process bus used in unit tests).
+class CanBus {
+ public:
+  virtual ~CanBus() = default;
+  virtual const std::string& name() const = 0;
+  /// Queues one frame without blocking: kOk, kRejected (bad frame, e.g. FD on a classic bus),
+  /// kNoNewData (transmit queue full; retry next cycle), kFault (bus-off or down). Real-time safe.
+  virtual Status send(const CanFrame& frame) = 0;
+  /// Takes one received frame without blocking: kOk, or kNoNewData if none is queued.
+  /// Real-time safe.
+  virtual Status receive(CanFrame& out) = 0;
+  /// Error counters and bus state. Real-time safe.
+  virtual CanBusStatus status() const = 0;
+};
+
+}  // namespace cambio::hal

@@ -28,6 +28,14 @@ struct BackendOptions {
   bool realtime = false;   ///< Paced to the wall clock (realtime executor) or lockstep.
 };
 
+/// A loop a backend needs run, with the rate it must run at (e.g. the sim's physics step at
+/// the rig's sim.physics_rate_hz).
+struct BackendLoop {
+  Loop* loop = nullptr;  ///< Owned by the backend.
+  double rate_hz = 0.0;
+  int priority = 0;  ///< SCHED_FIFO priority under the realtime executor; 0 = normal.
+};
+
 /// One backend instance serves every device of the rig that names it (the sim's world is shared
 /// by its joint groups and cameras; a CAN backend shares its buses). Built at configure time;
 /// its make_* functions may allocate and throw std::runtime_error with a clear message.
@@ -39,9 +47,9 @@ class Backend {
   virtual std::unique_ptr<TouchSensor> make_touch_sensor(std::string_view sensor_name) = 0;
   /// The clock every loop must use with this backend (sim time, or CLOCK_MONOTONIC).
   virtual Clock& clock() = 0;
-  /// Loops the backend needs run (the sim's physics step, a CAN SYNC producer). The executor
-  /// runs them with the application's loops; the backend keeps ownership.
-  virtual std::vector<Loop*> loops() = 0;
+  /// Loops the backend needs run (the sim's physics step, a CAN SYNC producer), with their
+  /// rates. The executor runs them with the application's loops; the backend keeps ownership.
+  virtual std::vector<BackendLoop> loops() = 0;
 };
 
 /// Thrown when a rig names a backend this build cannot make.

@@ -21,14 +21,20 @@ namespace cambio::config {
 /// Where issues found while reading one document accumulate.
 class IssueList {
  public:
-  void add(ConfigIssue issue) { issues_.push_back(std::move(issue)); }
+  /// Records `issue`; one located at or under a key set by `--set` (see mark_overridden) is
+  /// re-attributed to file "--set" with no line or column, since its YAML marks point into the
+  /// override's text rather than the file.
+  void add(ConfigIssue issue);
+  /// Declares that `key_path` (and everything under it) came from a `--set` override.
+  void mark_overridden(std::string key_path);
   bool empty() const { return issues_.empty(); }
   const std::vector<ConfigIssue>& issues() const { return issues_; }
-  /// Throws ConfigError with every issue if there is any.
+  /// Throws ConfigError with every issue, ordered by file, line and column, if there is any.
   void throw_if_any() const;
 
  private:
   std::vector<ConfigIssue> issues_;
+  std::vector<std::string> overridden_paths_;
 };
 
 /// Inclusive or exclusive bounds on a number.
@@ -39,7 +45,9 @@ struct Range {
   bool max_exclusive = false;
 
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range non_negative() {
+    return {0.0, std::numeric_limits<double>::infinity(), false, false};
+  }
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
   bool contains(double value) const;
   std::string describe() const;  ///< e.g. "> 0", "in [1, 127]".
@@ -94,9 +102,13 @@ class MapReader {
   /// A list of maps (`objects: [{...}, ...]`), each located at its own line.
   std::vector<MapReader> map_list(std::string_view key);
 
-  /// Records an issue located at `key` (or at this map if the key is absent): for consistency
-  /// checks that span several keys, e.g. "min_position_rad (1.2) is above max_position_rad (0.5)".
+  /// Records an issue located at `key` (or at this map if the key is absent or empty): for
+  /// consistency checks that span several keys, e.g. "min_position_rad (1.2) is above
+  /// max_position_rad (0.5)".
   void error(std::string_view key, std::string message);
+  /// Records an issue located at item `index` of the list under `key` (key path "key[index]"),
+  /// e.g. an unknown joint named in a group's joint list.
+  void error(std::string_view key, std::size_t index, std::string message);
   /// Reports unknown keys (with a "did you mean"). Call after every key was read.
   void finish();
 
@@ -106,10 +118,25 @@ class MapReader {
   const std::shared_ptr<IssueList>& issues() const { return issues_; }
 
  private:
-  YAML::Node lookup(std::string_view key);
-  void record(const YAML::Node& at, std::string_view key, std::string message);
+  struct Entry {
+    YAML::Node key;
+    YAML::Node value;
+  };
+  /// `mark` locates this map in messages (a null value's own mark is unhelpful, so a map read
+  /// from `key: <nothing>` is located at its key).
+  MapReader(YAML::Node node, std::string key_path, std::string file,
+            std::shared_ptr<IssueList> issues, YAML::Mark mark);
+  /// Finds `key` and marks it as read; nullopt when absent.
+  std::optional<Entry> lookup(std::string_view key);
+  /// Where an issue about `entry` is located: its value, or its key when the value is empty.
+  static YAML::Mark mark_of(const Entry& entry);
+  void record(const YAML::Mark& at, std::string key_path, std::string message);
+  /// A reader that reports nothing and returns fallbacks (for a map that is missing or wrong,
+  /// already reported once).
+  MapReader silent(std::string key_path) const;
 
   YAML::Node node_;
+  YAML::Mark mark_;
   std::string key_path_;
   std::string file_;
   std::shared_ptr<IssueList> issues_;
@@ -143,6 +170,11 @@ class ConfigDocument {
 
  private:
   ConfigDocument(YAML::Node root, std::string file);
+  static ConfigDocument parse(const std::string& text, const std::string& name,
+                              const std::vector<ConfigOverride>& overrides);
+  /// Sets the override's key in the tree, creating missing maps; records an issue (file
+  /// "--set") when the value does not parse or the path runs through a non-map.
+  void apply(const ConfigOverride& override_value);
   YAML::Node root_;
   std::string file_;
   std::shared_ptr<IssueList> issues_;

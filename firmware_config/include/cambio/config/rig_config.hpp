@@ -22,17 +22,17 @@ enum class ServoCommandMode : std::uint8_t { kPosition, kVelocity };
 /// drive is commanded in.
 struct ServoConfig {
   ServoCommandMode command = ServoCommandMode::kPosition;
-  double dead_time_s = 0.0;              ///< Delay between a command and its first effect.
-  double motion_noise_std_rad = 0.0;     ///< Gaussian error added to each executed motion.
+  double dead_time_s = 0.0;                 ///< Delay between a command and its first effect.
+  double motion_noise_std_rad = 0.0;        ///< Gaussian error added to each executed motion.
   std::int64_t encoder_counts_per_rev = 0;  ///< Encoder quantisation; 0 = ideal encoder.
-  double backlash_rad = 0.0;             ///< Dead band on direction reversal; 0 = none.
+  double backlash_rad = 0.0;                ///< Dead band on direction reversal; 0 = none.
 };
 
 /// CANopen CiA 402 settings of the drive behind a joint (used when its group's backend is
 /// socketcan, or by the sim's virtual CAN rig).
 struct JointCanConfig {
-  int node_id = 0;                        ///< 1..127.
-  double gear_ratio = 1.0;                ///< Motor turns per joint turn.
+  int node_id = 0;                          ///< 1..127.
+  double gear_ratio = 1.0;                  ///< Motor turns per joint turn.
   std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
 };
 
@@ -43,13 +43,13 @@ struct JointConfig {
   /// The link this joint hangs from: "base" or the name of another joint (each joint moves a
   /// link named after it).
   std::string parent = "base";
-  Pose origin;                           ///< Joint frame in the parent link frame at zero.
+  Pose origin;                                ///< Joint frame in the parent link frame at zero.
   std::array<double, 3> axis{0.0, 0.0, 1.0};  ///< Unit vector in the joint frame.
   double min_position_rad = 0.0;
   double max_position_rad = 0.0;
   double max_velocity_rad_s = 0.0;
   double max_acceleration_rad_s2 = 0.0;
-  double max_effort_nm = 0.0;            ///< 0 = not limited by the stack (the drive limits it).
+  double max_effort_nm = 0.0;  ///< 0 = not limited by the stack (the drive limits it).
   double initial_position_rad = 0.0;
   ServoConfig servo;
   std::optional<JointCanConfig> can;

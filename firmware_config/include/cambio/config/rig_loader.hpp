@@ -24,6 +24,19 @@ RigConfig read_rig(MapReader root, const std::string& file);
 /// perception 60 Hz, camera 30 Hz.
 std::vector<LoopConfig> default_loops();
 
+/// Bits one classic CAN frame with an 11-bit identifier and `data_bytes` data bytes takes on the
+/// wire in the worst case: 47 bits of framing and interframe space, the data, and the most stuff
+/// bits the 34 + 8 * data_bytes stuffed bits can need (8 data bytes: 135 bits; SYNC, 0 bytes: 55).
+int can_frame_worst_case_bits(int data_bytes);
+
+/// Worst-case share of `bus`'s bitrate the joint loop's CANopen traffic takes (1.0 = saturated):
+/// per SYNC, each joint of a socketcan group on the bus receives one RPDO and sends one TPDO of
+/// 8 data bytes, plus the SYNC frame, at the joint loop's rate. An upper bound for CAN FD buses
+/// too (FD frames at the faster data bitrate take less time). Loading refuses a load above
+/// kMaxCanBusLoad.
+double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus);
+inline constexpr double kMaxCanBusLoad = 0.9;
+
 /// Directory of the shipped YAML: the install prefix's share/cambio/firmware_config when the
 /// program is installed, else the source tree's firmware_config/. Overridden by $CAMBIO_CONFIG_DIR.
 std::string shipped_config_dir();

@@ -1,0 +1,23 @@
+#pragma once
+
+// Number and text formatting shared by the loaders' messages (internal to firmware_config).
+
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace cambio::config {
+
+/// Up to 9 significant digits, no trailing zeros: 1000000 -> "1000000", 0.0002 -> "0.0002".
+inline std::string format_number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.9g", value);
+  return buffer;
+}
+
+/// `text` in double quotes, as messages show names and text values.
+inline std::string in_quotes(std::string_view text) {
+  return "\"" + std::string(text) + "\"";
+}
+
+}  // namespace cambio::config

@@ -1,0 +1,38 @@
+#include "cambio/config/rig_config.hpp"
+
+#include <algorithm>
+
+namespace cambio::config {
+
+namespace {
+
+template <typename Item>
+const Item* find_named(const std::vector<Item>& items, const std::string& name) {
+  const auto it =
+      std::find_if(items.begin(), items.end(), [&](const Item& item) { return item.name == name; });
+  return it == items.end() ? nullptr : &*it;
+}
+
+}  // namespace
+
+const JointConfig* RigConfig::find_joint(const std::string& joint_name) const {
+  return find_named(joints, joint_name);
+}
+
+const JointGroupConfig* RigConfig::find_group(const std::string& group_name) const {
+  return find_named(groups, group_name);
+}
+
+const CameraConfig* RigConfig::find_camera(const std::string& camera_name) const {
+  return find_named(cameras, camera_name);
+}
+
+const LoopConfig* RigConfig::find_loop(const std::string& loop_name) const {
+  return find_named(loops, loop_name);
+}
+
+const CanBusConfig* RigConfig::find_can_bus(const std::string& bus_name) const {
+  return find_named(can_buses, bus_name);
+}
+
+}  // namespace cambio::config

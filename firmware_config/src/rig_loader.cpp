@@ -1,0 +1,650 @@
+#include "cambio/config/rig_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include "format.hpp"
+
+namespace cambio::config {
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr std::string_view kBase = "base";
+/// Stereo baseline agreement with the eyes' joint origins, in metres.
+constexpr double kBaselineTolerance_m = 1e-6;
+/// Highest loop or physics rate accepted; beyond it a "rate" is a typo, not a plan.
+constexpr double kMaxRate_hz = 100'000.0;
+
+/// Counts issues so a consistency check runs only on values that were read cleanly (and does
+/// not pile a second message on a value already reported).
+class CleanRead {
+ public:
+  explicit CleanRead(const MapReader& reader)
+      : issues_(reader.issues()), start_(issues_->issues().size()) {}
+  bool clean() const { return issues_->issues().size() == start_; }
+
+ private:
+  std::shared_ptr<IssueList> issues_;
+  std::size_t start_;
+};
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+/// `expected one of a, b, c, found "x"` with a "did you mean" when one name is close.
+std::string unknown_name_message(std::string_view what, const std::string& name,
+                                 const std::vector<std::string>& known) {
+  std::string message = "expected " + std::string(what);
+  if (known.empty()) {
+    message += " (there are none)";
+  } else {
+    message += " (" + join(known) + ")";
+  }
+  message += ", found " + in_quotes(name);
+  std::size_t best = std::max<std::size_t>(2, name.size() / 4) + 1;
+  std::string suggestion;
+  for (const auto& candidate : known) {
+    const std::size_t distance = edit_distance(name, candidate);
+    if (distance < best) {
+      best = distance;
+      suggestion = candidate;
+    }
+  }
+  if (!suggestion.empty()) message += "; did you mean " + in_quotes(suggestion) + "?";
+  return message;
+}
+
+/// The key an angle was given under: "<stem>_deg" or "<stem>_rad".
+std::string angle_key(const MapReader& reader, const std::string& stem) {
+  return reader.has(stem + "_deg") ? stem + "_deg" : stem + "_rad";
+}
+
+/// An angle in the unit its key used, for messages.
+std::string format_angle(double angle_rad, const std::string& key) {
+  return key.ends_with("_deg") ? format_number(angle_rad * kDegPerRad) + " deg"
+                               : format_number(angle_rad) + " rad";
+}
+
+struct JointEntry {
+  MapReader reader;
+  std::optional<MapReader> can;
+};
+
+struct GroupEntry {
+  MapReader reader;
+};
+
+JointConfig read_joint(const std::string& name, MapReader& r,
+                       std::optional<MapReader>& can_reader) {
+  JointConfig joint;
+  joint.name = name;
+  if (name == kBase)
+    r.error("", "\"base\" names the robot's root link; give the joint another name");
+  joint.group = r.text("group");
+  joint.parent = r.text_or("parent", std::string(kBase));
+  joint.origin.xyz_m = r.vector3_or("origin_xyz_m", {0.0, 0.0, 0.0});
+  joint.origin.rpy_rad = r.angles3_rad_or("origin_rpy", {0.0, 0.0, 0.0});
+
+  {
+    const CleanRead axis_read(r);
+    const auto axis = r.vector3("axis");
+    if (axis_read.clean()) {
+      const double norm = std::hypot(axis[0], axis[1], axis[2]);
+      if (norm < 1e-9) {
+        r.error("axis", "expected a non-zero axis vector, found [" + format_number(axis[0]) + ", " +
+                            format_number(axis[1]) + ", " + format_number(axis[2]) + "]");
+      } else {
+        joint.axis = {axis[0] / norm, axis[1] / norm, axis[2] / norm};
+      }
+    }
+  }
+
+  const CleanRead limits_read(r);
+  joint.min_position_rad = r.angle_rad("min_position");
+  joint.max_position_rad = r.angle_rad("max_position");
+  const bool limits_clean = limits_read.clean();
+  if (limits_clean && joint.min_position_rad >= joint.max_position_rad) {
+    const std::string min_key = angle_key(r, "min_position");
+    const std::string max_key = angle_key(r, "max_position");
+    r.error(min_key, "expected a lower limit below " + max_key + " (" +
+                         format_angle(joint.max_position_rad, max_key) + "), found " +
+                         format_angle(joint.min_position_rad, min_key));
+  }
+  joint.max_velocity_rad_s = r.number("max_velocity_rad_s", Range::positive());
+  joint.max_acceleration_rad_s2 = r.number("max_acceleration_rad_s2", Range::positive());
+  joint.max_effort_nm = r.number_or("max_effort_nm", 0.0, Range::non_negative());
+
+  const bool has_initial = r.has("initial_position_deg") || r.has("initial_position_rad");
+  const CleanRead initial_read(r);
+  joint.initial_position_rad = r.angle_rad_or("initial_position", 0.0);
+  if (limits_clean && joint.min_position_rad < joint.max_position_rad) {
+    if (!has_initial) {
+      // Zero unless the limits exclude it (a gripper that opens from 10 deg, say).
+      joint.initial_position_rad = std::clamp(0.0, joint.min_position_rad, joint.max_position_rad);
+    } else if (initial_read.clean() && (joint.initial_position_rad < joint.min_position_rad ||
+                                        joint.initial_position_rad > joint.max_position_rad)) {
+      const std::string key = angle_key(r, "initial_position");
+      r.error(key, "expected a position within the limits [" +
+                       format_angle(joint.min_position_rad, key) + ", " +
+                       format_angle(joint.max_position_rad, key) + "], found " +
+                       format_angle(joint.initial_position_rad, key));
+    }
+  }
+
+  if (auto servo = r.optional_map("servo")) {
+    joint.servo.command =
+        servo->choice_or("command", {"position", "velocity"}, "position") == "velocity"
+            ? ServoCommandMode::kVelocity
+            : ServoCommandMode::kPosition;
+    joint.servo.dead_time_s = servo->number_or("dead_time_s", 0.0, Range::non_negative());
+    joint.servo.motion_noise_std_rad =
+        servo->angle_rad_or("motion_noise_std", 0.0, Range::non_negative());
+    joint.servo.encoder_counts_per_rev =
+        servo->integer_or("encoder_counts_per_rev", 0, Range::non_negative());
+    joint.servo.backlash_rad = servo->angle_rad_or("backlash", 0.0, Range::non_negative());
+    servo->finish();
+  }
+
+  can_reader = r.optional_map("can");
+  if (can_reader) {
+    JointCanConfig can;
+    can.node_id = static_cast<int>(can_reader->integer("node_id", Range::closed(1, 127)));
+    can.gear_ratio = can_reader->number_or("gear_ratio", 1.0, Range::positive());
+    can.encoder_counts_per_rev = can_reader->integer(
+        "encoder_counts_per_rev", Range{1.0, std::numeric_limits<double>::infinity()});
+    can_reader->finish();
+    joint.can = can;
+  }
+  r.finish();
+  return joint;
+}
+
+JointGroupConfig read_group(const std::string& name, MapReader& r) {
+  JointGroupConfig group;
+  group.name = name;
+  group.backend = r.choice("backend", {"sim", "socketcan"});
+  group.joints = r.strings("joints");
+  if (r.has("joints") && group.joints.empty()) {
+    r.error("joints", "expected a list of at least one joint name, found an empty list");
+  }
+  group.can_bus = r.text_or("can_bus", "");
+  r.finish();
+  return group;
+}
+
+CameraConfig read_camera(const std::string& name, MapReader& r) {
+  CameraConfig camera;
+  camera.name = name;
+  camera.backend = r.choice_or("backend", {"sim"}, "sim");
+  camera.parent = r.text("parent");
+  camera.mount.xyz_m = r.vector3_or("origin_xyz_m", {0.0, 0.0, 0.0});
+  camera.mount.rpy_rad = r.angles3_rad_or("origin_rpy", {0.0, 0.0, 0.0});
+  const CleanRead size_read(r);
+  camera.width_px = static_cast<int>(r.integer("width_px", Range::closed(1, 65535)));
+  camera.height_px = static_cast<int>(r.integer("height_px", Range::closed(1, 65535)));
+  const bool size_clean = size_read.clean();
+
+  const bool has_focal = r.has("focal_px");
+  const bool has_xy = r.has("focal_x_px") || r.has("focal_y_px");
+  if (has_focal && has_xy) {
+    r.number_or("focal_x_px", 0.0);  // Marks the keys read: the issue is the conflict.
+    r.number_or("focal_y_px", 0.0);
+    r.error(r.has("focal_x_px") ? "focal_x_px" : "focal_y_px",
+            "expected either focal_px or focal_x_px and focal_y_px, found both");
+  } else if (has_focal) {
+    camera.focal_x_px = camera.focal_y_px = r.number("focal_px", Range::positive());
+  } else if (has_xy) {
+    camera.focal_x_px = r.number("focal_x_px", Range::positive());
+    camera.focal_y_px = r.number("focal_y_px", Range::positive());
+  } else {
+    r.number_or("focal_x_px", 0.0);
+    r.number_or("focal_y_px", 0.0);
+    r.number("focal_px", Range::positive());
+  }
+
+  // Centred by default: the pixel grid's middle, counted from the top-left pixel's centre.
+  camera.principal_x_px = (camera.width_px - 1) / 2.0;
+  camera.principal_y_px = (camera.height_px - 1) / 2.0;
+  if (r.has("principal_point_px")) {
+    const CleanRead point_read(r);
+    const auto point = r.numbers("principal_point_px");
+    if (point_read.clean() && point.size() != 2) {
+      r.error("principal_point_px", "expected a list of 2 numbers [cx, cy], found a list of " +
+                                        std::to_string(point.size()));
+    } else if (point_read.clean()) {
+      camera.principal_x_px = point[0];
+      camera.principal_y_px = point[1];
+      // Pixel centres run from 0 to size - 1; the image's edges lie half a pixel further out.
+      const double max_x = camera.width_px - 0.5;
+      const double max_y = camera.height_px - 0.5;
+      if (size_clean &&
+          (point[0] < -0.5 || point[0] > max_x || point[1] < -0.5 || point[1] > max_y)) {
+        r.error("principal_point_px",
+                "expected a point inside the " + std::to_string(camera.width_px) + "x" +
+                    std::to_string(camera.height_px) + " image (x in [-0.5, " +
+                    format_number(max_x) + "], y in [-0.5, " + format_number(max_y) +
+                    "]), found [" + format_number(point[0]) + ", " + format_number(point[1]) + "]");
+      }
+    }
+  }
+  camera.format = r.choice_or("format", {"grey8", "rgb8"}, "rgb8") == "grey8"
+                      ? PixelFormatConfig::kGrey8
+                      : PixelFormatConfig::kRgb8;
+  camera.image_noise_std = r.number_or("image_noise_std", 0.0, Range::non_negative());
+  r.finish();
+  return camera;
+}
+
+CanBusConfig read_can_bus(const std::string& name, MapReader& r) {
+  CanBusConfig bus;
+  bus.name = name;
+  bus.interface = r.text("interface");
+  // Classic CAN's nominal (arbitration) bitrate tops out at 1 Mbit/s.
+  bus.bitrate_bit_s = r.integer_or("bitrate_bit_s", 1'000'000, Range::closed(1'000, 1'000'000));
+  bus.fd = r.boolean_or("fd", false);
+  if (bus.fd) {
+    const CleanRead data_read(r);
+    bus.data_bitrate_bit_s = r.integer("data_bitrate_bit_s", Range::closed(1'000, 16'000'000));
+    if (data_read.clean() && bus.data_bitrate_bit_s < bus.bitrate_bit_s) {
+      r.error("data_bitrate_bit_s", "expected a data bitrate >= bitrate_bit_s (" +
+                                        std::to_string(bus.bitrate_bit_s) + "), found " +
+                                        std::to_string(bus.data_bitrate_bit_s));
+    }
+  } else if (r.has("data_bitrate_bit_s")) {
+    r.integer_or("data_bitrate_bit_s", 0);
+    r.error("data_bitrate_bit_s",
+            "expected no data bitrate on a classic CAN bus (set fd: true for CAN FD), found one");
+  }
+  r.finish();
+  return bus;
+}
+
+LoopConfig read_loop(const std::string& name, MapReader& r) {
+  const auto defaults = default_loops();
+  const auto standard = std::find_if(defaults.begin(), defaults.end(),
+                                     [&](const LoopConfig& loop) { return loop.name == name; });
+  LoopConfig loop;
+  loop.name = name;
+  const Range rate_range{0.0, kMaxRate_hz, true, false};
+  loop.rate_hz = standard != defaults.end() ? r.number_or("rate_hz", standard->rate_hz, rate_range)
+                                            : r.number("rate_hz", rate_range);
+  loop.priority = static_cast<int>(r.integer_or("priority", 0, Range::closed(0, 99)));
+  loop.cpu = static_cast<int>(
+      r.integer_or("cpu", -1, Range{-1.0, std::numeric_limits<double>::infinity()}));
+  loop.overrun = r.choice_or("overrun", {"skip", "catch_up"}, "skip") == "catch_up"
+                     ? OverrunPolicy::kCatchUp
+                     : OverrunPolicy::kSkip;
+  r.finish();
+  return loop;
+}
+
+/// Every joint in exactly one group, and the group its own `group` key names.
+void check_group_membership(RigConfig& rig, std::vector<JointEntry>& joints,
+                            std::vector<GroupEntry>& groups,
+                            const std::vector<std::string>& joint_names) {
+  std::map<std::string, std::string> group_of;
+  for (std::size_t g = 0; g < rig.groups.size(); ++g) {
+    const auto& group = rig.groups[g];
+    for (std::size_t i = 0; i < group.joints.size(); ++i) {
+      const std::string& joint = group.joints[i];
+      if (joint.empty()) continue;  // Already reported as not a name.
+      if (rig.find_joint(joint) == nullptr) {
+        groups[g].reader.error("joints", i, unknown_name_message("a joint", joint, joint_names));
+        continue;
+      }
+      const auto [it, inserted] = group_of.emplace(joint, group.name);
+      if (!inserted) {
+        groups[g].reader.error("joints", i,
+                               "expected each joint in one group only, found " + in_quotes(joint) +
+                                   " again (already in group " + in_quotes(it->second) + ")");
+      }
+    }
+  }
+  std::vector<std::string> group_names;
+  for (const auto& group : rig.groups) group_names.push_back(group.name);
+  for (std::size_t j = 0; j < rig.joints.size(); ++j) {
+    const auto& joint = rig.joints[j];
+    if (joint.group.empty()) continue;
+    const auto member = group_of.find(joint.name);
+    if (member == group_of.end()) {
+      if (rig.find_group(joint.group) == nullptr) {
+        joints[j].reader.error("group", unknown_name_message("a group", joint.group, group_names));
+      } else {
+        joints[j].reader.error("",
+                               "expected the joint in one group's joint list, found it in "
+                               "none (add it to groups." +
+                                   joint.group + ".joints)");
+      }
+    } else if (member->second != joint.group) {
+      joints[j].reader.error("group", "expected " + in_quotes(member->second) + " (groups." +
+                                          member->second + ".joints lists this joint), found " +
+                                          in_quotes(joint.group));
+    }
+  }
+}
+
+/// Parents name "base" or a joint, and following them always ends at "base".
+void check_kinematic_tree(const RigConfig& rig, std::vector<JointEntry>& joints,
+                          const std::vector<std::string>& joint_names) {
+  std::set<std::string> in_reported_cycle;
+  for (std::size_t j = 0; j < rig.joints.size(); ++j) {
+    const auto& joint = rig.joints[j];
+    if (joint.parent != kBase && rig.find_joint(joint.parent) == nullptr) {
+      std::vector<std::string> choices{std::string(kBase)};
+      choices.insert(choices.end(), joint_names.begin(), joint_names.end());
+      joints[j].reader.error("parent",
+                             unknown_name_message("\"base\" or a joint", joint.parent, choices));
+      continue;
+    }
+    if (in_reported_cycle.contains(joint.name)) continue;
+    // Walk up at most as many links as there are joints: a longer chain repeats a joint.
+    std::vector<std::string> chain{joint.name};
+    const JointConfig* at = &joint;
+    bool cycle = false;
+    for (std::size_t step = 0; step <= rig.joints.size(); ++step) {
+      if (at->parent == kBase) break;
+      at = rig.find_joint(at->parent);
+      if (at == nullptr) break;  // Reported at that joint.
+      chain.push_back(at->name);
+      if (at->name == joint.name) {
+        cycle = true;
+        break;
+      }
+      if (std::count(chain.begin(), chain.end(), at->name) > 1) break;  // A cycle above us.
+    }
+    if (cycle) {
+      std::string path;
+      for (const auto& link : chain) {
+        path += (path.empty() ? "" : " -> ") + link;
+        in_reported_cycle.insert(link);
+      }
+      joints[j].reader.error("parent",
+                             "expected a chain of parents ending at \"base\", found a "
+                             "cycle: " +
+                                 path);
+    }
+  }
+}
+
+/// Buses exist, socketcan groups have one, node ids are unique per bus and the joint loop's
+/// traffic fits the bus.
+void check_can(const RigConfig& rig, std::vector<JointEntry>& joints,
+               std::vector<GroupEntry>& groups, std::vector<MapReader>& bus_readers) {
+  std::vector<std::string> bus_names;
+  for (const auto& bus : rig.can_buses) bus_names.push_back(bus.name);
+  // node id -> joint, per bus.
+  std::map<std::string, std::map<int, std::string>> node_owner;
+  for (std::size_t g = 0; g < rig.groups.size(); ++g) {
+    const auto& group = rig.groups[g];
+    auto& reader = groups[g].reader;
+    if (group.can_bus.empty()) {
+      if (group.backend == "socketcan") {
+        reader.error("can_bus",
+                     "missing key (a socketcan group needs can_bus naming one of "
+                     "can_buses: " +
+                         (bus_names.empty() ? std::string("none defined") : join(bus_names)) + ")");
+      }
+      continue;
+    }
+    if (rig.find_can_bus(group.can_bus) == nullptr) {
+      reader.error("can_bus", unknown_name_message("one of can_buses", group.can_bus, bus_names));
+      continue;
+    }
+    for (const auto& joint_name : group.joints) {
+      const JointConfig* joint = rig.find_joint(joint_name);
+      if (joint == nullptr) continue;
+      const auto j = static_cast<std::size_t>(joint - rig.joints.data());
+      if (!joint->can) {
+        if (group.backend == "socketcan") {
+          joints[j].reader.error("can", "missing key (a joint of socketcan group " + group.name +
+                                            " needs can: {node_id, gear_ratio, "
+                                            "encoder_counts_per_rev})");
+        }
+        continue;
+      }
+      if (joint->can->node_id < 1) continue;  // Already reported as out of range.
+      const auto [owner, inserted] =
+          node_owner[group.can_bus].emplace(joint->can->node_id, joint->name);
+      if (!inserted) {
+        joints[j].can->error("node_id", "expected a node id unique on bus " + group.can_bus +
+                                            ", found " + std::to_string(joint->can->node_id) +
+                                            " (already used by " + owner->second + ")");
+      }
+    }
+  }
+  for (std::size_t b = 0; b < rig.can_buses.size(); ++b) {
+    const auto& bus = rig.can_buses[b];
+    const double load = joint_loop_can_load(rig, bus);
+    if (load > kMaxCanBusLoad) {
+      const LoopConfig* joint_loop = rig.find_loop("joint");
+      const double joint_rate_hz = joint_loop ? joint_loop->rate_hz : 0.0;
+      const double max_rate_hz = joint_rate_hz * kMaxCanBusLoad / load;
+      bus_readers[b].error(
+          "bitrate_bit_s",
+          "expected a bitrate that carries the joint loop's CANopen traffic within " +
+              format_number(kMaxCanBusLoad * 100) + "% (" + format_number(joint_rate_hz) +
+              " Hz: " + format_number(std::round(load * bus.bitrate_bit_s)) +
+              " bit/s worst case), found " + std::to_string(bus.bitrate_bit_s) + " bit/s (" +
+              format_number(std::round(load * 1000) / 10) +
+              "% load); lower loops.joint.rate_hz to at most " +
+              format_number(std::floor(max_rate_hz)) + " Hz or split the joints over more buses");
+    }
+  }
+}
+
+void check_stereo(const RigConfig& rig, MapReader& r,
+                  const std::vector<std::string>& camera_names) {
+  const auto& stereo = *rig.stereo;
+  const CameraConfig* left = nullptr;
+  const CameraConfig* right = nullptr;
+  if (!stereo.left_camera.empty()) {
+    left = rig.find_camera(stereo.left_camera);
+    if (left == nullptr) {
+      r.error("left_camera", unknown_name_message("a camera", stereo.left_camera, camera_names));
+    }
+  }
+  if (!stereo.right_camera.empty()) {
+    right = rig.find_camera(stereo.right_camera);
+    if (right == nullptr) {
+      r.error("right_camera", unknown_name_message("a camera", stereo.right_camera, camera_names));
+    }
+  }
+  if (left != nullptr && left == right) {
+    r.error("right_camera", "expected a camera other than left_camera, found " +
+                                in_quotes(stereo.right_camera) + " for both");
+    return;
+  }
+  if (left == nullptr || right == nullptr || stereo.baseline_m <= 0.0) return;
+  const JointConfig* left_eye = rig.find_joint(left->parent);
+  const JointConfig* right_eye = rig.find_joint(right->parent);
+  if (left_eye == nullptr || right_eye == nullptr || left_eye == right_eye) return;
+  // The eyes pan about parallel axes set apart along y (rigs/cambio.yaml's frame convention).
+  const double distance_m = std::abs(left_eye->origin.xyz_m[1] - right_eye->origin.xyz_m[1]);
+  if (std::abs(distance_m - stereo.baseline_m) > kBaselineTolerance_m) {
+    r.error("baseline_m", "expected " + format_number(distance_m) +
+                              " (the distance in y between the origins of joints " +
+                              left_eye->name + " and " + right_eye->name + "), found " +
+                              format_number(stereo.baseline_m));
+  }
+}
+
+std::vector<std::string> names_of(const auto& items) {
+  std::vector<std::string> names;
+  for (const auto& item : items) names.push_back(item.name);
+  return names;
+}
+
+}  // namespace
+
+std::vector<LoopConfig> default_loops() {
+  return {
+      LoopConfig{"joint", 1000.0, 0, -1, OverrunPolicy::kSkip},
+      LoopConfig{"control", 200.0, 0, -1, OverrunPolicy::kSkip},
+      LoopConfig{"perception", 60.0, 0, -1, OverrunPolicy::kSkip},
+      LoopConfig{"camera", 30.0, 0, -1, OverrunPolicy::kSkip},
+  };
+}
+
+int can_frame_worst_case_bits(int data_bytes) {
+  const int stuffed_bits = 34 + 8 * data_bytes;  // SOF through CRC: the bits stuffing applies to.
+  return 47 + 8 * data_bytes + (stuffed_bits - 1) / 4;
+}
+
+double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus) {
+  const LoopConfig* joint_loop = rig.find_loop("joint");
+  if (joint_loop == nullptr || bus.bitrate_bit_s <= 0) return 0.0;
+  int joints_on_bus = 0;
+  for (const auto& group : rig.groups) {
+    if (group.backend != "socketcan" || group.can_bus != bus.name) continue;
+    joints_on_bus += static_cast<int>(group.joints.size());
+  }
+  if (joints_on_bus == 0) return 0.0;
+  const double bits_per_cycle =
+      joints_on_bus * 2 * can_frame_worst_case_bits(8) + can_frame_worst_case_bits(0);
+  return bits_per_cycle * joint_loop->rate_hz / static_cast<double>(bus.bitrate_bit_s);
+}
+
+RigConfig read_rig(MapReader root, const std::string& file) {
+  RigConfig rig;
+  rig.source_file = file;
+  {
+    MapReader header = root.map("rig");
+    rig.name = header.text("name");
+    header.finish();
+  }
+
+  std::vector<JointEntry> joints;
+  if (!root.has("joints")) root.error("joints", "missing key (expected a map of joints by name)");
+  for (auto& [name, reader] : root.named_maps("joints")) {
+    std::optional<MapReader> can;
+    rig.joints.push_back(read_joint(name, reader, can));
+    joints.push_back(JointEntry{reader, can});
+  }
+  if (root.has("joints") && rig.joints.empty()) {
+    root.error("joints", "expected at least one joint, found none");
+  }
+
+  std::vector<GroupEntry> groups;
+  if (!root.has("groups"))
+    root.error("groups", "missing key (expected a map of joint groups by name)");
+  for (auto& [name, reader] : root.named_maps("groups")) {
+    rig.groups.push_back(read_group(name, reader));
+    groups.push_back(GroupEntry{reader});
+  }
+  if (root.has("groups") && rig.groups.empty()) {
+    root.error("groups", "expected at least one group, found none");
+  }
+
+  std::vector<MapReader> camera_readers;
+  for (auto& [name, reader] : root.named_maps("cameras")) {
+    rig.cameras.push_back(read_camera(name, reader));
+    camera_readers.push_back(reader);
+  }
+
+  std::optional<MapReader> stereo_reader = root.optional_map("stereo");
+  if (stereo_reader) {
+    StereoConfig stereo;
+    stereo.left_camera = stereo_reader->text("left_camera");
+    stereo.right_camera = stereo_reader->text("right_camera");
+    stereo.baseline_m = stereo_reader->number("baseline_m", Range::positive());
+    stereo_reader->finish();
+    rig.stereo = stereo;
+  }
+
+  std::vector<MapReader> touch_readers;
+  for (auto& [name, reader] : root.named_maps("touch_sensors")) {
+    rig.touch_sensors.push_back(TouchSensorConfig{name, reader.text("parent")});
+    reader.finish();
+    touch_readers.push_back(reader);
+  }
+
+  std::vector<MapReader> bus_readers;
+  for (auto& [name, reader] : root.named_maps("can_buses")) {
+    rig.can_buses.push_back(read_can_bus(name, reader));
+    bus_readers.push_back(reader);
+  }
+
+  for (auto& [name, reader] : root.named_maps("loops"))
+    rig.loops.push_back(read_loop(name, reader));
+  for (const auto& loop : default_loops()) {
+    if (rig.find_loop(loop.name) == nullptr) rig.loops.push_back(loop);
+  }
+
+  if (auto sim = root.optional_map("sim")) {
+    rig.sim.physics_rate_hz = sim->number_or("physics_rate_hz", rig.sim.physics_rate_hz,
+                                             Range{0.0, kMaxRate_hz, true, false});
+    sim->finish();
+  }
+  if (auto runtime = root.optional_map("runtime")) {
+    rig.runtime.lock_memory = runtime->boolean_or("lock_memory", false);
+    runtime->finish();
+  }
+  root.finish();
+
+  // Consistency across sections, on what was read.
+  const std::vector<std::string> joint_names = names_of(rig.joints);
+  check_group_membership(rig, joints, groups, joint_names);
+  check_kinematic_tree(rig, joints, joint_names);
+  std::vector<std::string> link_names{std::string(kBase)};
+  link_names.insert(link_names.end(), joint_names.begin(), joint_names.end());
+  for (std::size_t c = 0; c < rig.cameras.size(); ++c) {
+    const auto& parent = rig.cameras[c].parent;
+    if (!parent.empty() && parent != kBase && rig.find_joint(parent) == nullptr) {
+      camera_readers[c].error("parent",
+                              unknown_name_message("\"base\" or a joint", parent, link_names));
+    }
+  }
+  for (std::size_t t = 0; t < rig.touch_sensors.size(); ++t) {
+    const auto& parent = rig.touch_sensors[t].parent;
+    if (!parent.empty() && rig.find_joint(parent) == nullptr) {
+      touch_readers[t].error("parent", unknown_name_message("a joint", parent, joint_names));
+    }
+  }
+  if (rig.stereo) check_stereo(rig, *stereo_reader, names_of(rig.cameras));
+  check_can(rig, joints, groups, bus_readers);
+
+  root.issues()->throw_if_any();
+  return rig;
+}
+
+RigConfig load_rig(const std::string& path, const std::vector<ConfigOverride>& overrides) {
+  ConfigDocument document = ConfigDocument::load_file(path, overrides);
+  return read_rig(document.root(), document.file());
+}
+
+RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
+                               const std::vector<ConfigOverride>& overrides) {
+  ConfigDocument document = ConfigDocument::from_string(yaml, name, overrides);
+  return read_rig(document.root(), document.file());
+}
+
+std::string shipped_config_dir() {
+  if (const char* from_env = std::getenv("CAMBIO_CONFIG_DIR"); from_env && *from_env) {
+    return from_env;
+  }
+  namespace fs = std::filesystem;
+  const fs::path install_dir = CAMBIO_INSTALL_CONFIG_DIR;
+  std::error_code error;
+  if (fs::is_directory(install_dir, error)) {
+    // <prefix>/share/cambio/firmware_config: the program is installed when it runs from under
+    // <prefix>; a build tree's program uses the source tree even if an older install exists.
+    const fs::path prefix = install_dir.parent_path().parent_path().parent_path();
+    const fs::path program = fs::read_symlink("/proc/self/exe", error);
+    if (!error) {
+      const auto relative = program.lexically_relative(prefix);
+      if (!relative.empty() && *relative.begin() != "..") return install_dir.string();
+    }
+  }
+  return CAMBIO_SOURCE_CONFIG_DIR;
+}
+
+}  // namespace cambio::config

@@ -193,22 +193,24 @@ CameraConfig read_camera(const std::string& name, MapReader& r) {
   camera.height_px = static_cast<int>(r.integer("height_px", Range::closed(1, 65535)));
   const bool size_clean = size_read.clean();
 
+  // Either focal_px (square pixels) or focal_x_px and focal_y_px. Every branch reads all three
+  // keys so that each counts as accepted (for "did you mean") whichever form the file uses.
   const bool has_focal = r.has("focal_px");
   const bool has_xy = r.has("focal_x_px") || r.has("focal_y_px");
   if (has_focal && has_xy) {
-    r.number_or("focal_x_px", 0.0);  // Marks the keys read: the issue is the conflict.
-    r.number_or("focal_y_px", 0.0);
+    r.number_or("focal_px", 0.0, Range::positive());
+    r.number_or("focal_x_px", 0.0, Range::positive());
+    r.number_or("focal_y_px", 0.0, Range::positive());
     r.error(r.has("focal_x_px") ? "focal_x_px" : "focal_y_px",
             "expected either focal_px or focal_x_px and focal_y_px, found both");
-  } else if (has_focal) {
-    camera.focal_x_px = camera.focal_y_px = r.number("focal_px", Range::positive());
   } else if (has_xy) {
+    r.number_or("focal_px", 0.0);
     camera.focal_x_px = r.number("focal_x_px", Range::positive());
     camera.focal_y_px = r.number("focal_y_px", Range::positive());
   } else {
+    camera.focal_x_px = camera.focal_y_px = r.number("focal_px", Range::positive());
     r.number_or("focal_x_px", 0.0);
     r.number_or("focal_y_px", 0.0);
-    r.number("focal_px", Range::positive());
   }
 
   // Centred by default: the pixel grid's middle, counted from the top-left pixel's centre.

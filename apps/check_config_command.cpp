@@ -1,0 +1,162 @@
+// `cambio check-config FILE [--set key.path=value]...`: validate a rig file and summarise it.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "argument_parser.hpp"
+#include "cambio/config/rig_loader.hpp"
+#include "command.hpp"
+#include "config_errors.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+using config::RigConfig;
+
+std::string fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+/// Shortest readable form: 0.12, 554.256, 1000.
+std::string plain(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+double degrees(double radians) {
+  return radians * 180.0 / std::numbers::pi;
+}
+
+std::string pad(std::string text, std::size_t width) {
+  if (text.size() < width) text.append(width - text.size(), ' ');
+  return text;
+}
+
+std::string vector_text(const std::array<double, 3>& v, double scale = 1.0) {
+  return "[" + plain(v[0] * scale) + ", " + plain(v[1] * scale) + ", " + plain(v[2] * scale) + "]";
+}
+
+void print_summary(const RigConfig& rig, std::ostream& out) {
+  out << "rig " << rig.name << " (" << rig.source_file << "): OK\n";
+  out << "  " << rig.joints.size() << " joints in " << rig.groups.size() << " groups, "
+      << rig.cameras.size() << " cameras, " << rig.loops.size() << " loops, "
+      << rig.can_buses.size() << " CAN buses\n";
+
+  std::size_t name_width = 0;
+  for (const auto& joint : rig.joints) name_width = std::max(name_width, joint.name.size());
+
+  out << "\ngroups\n";
+  for (const auto& group : rig.groups) {
+    out << "  " << group.name << ": backend " << group.backend;
+    if (!group.can_bus.empty()) out << ", CAN bus " << group.can_bus;
+    out << "\n";
+    for (const auto& joint_name : group.joints) {
+      const auto* joint = rig.find_joint(joint_name);
+      if (joint == nullptr) continue;
+      out << "    " << pad(joint->name, name_width) << "  ["
+          << fixed(degrees(joint->min_position_rad), 1) << ", "
+          << fixed(degrees(joint->max_position_rad), 1) << "] deg  max "
+          << plain(joint->max_velocity_rad_s) << " rad/s, " << plain(joint->max_acceleration_rad_s2)
+          << " rad/s^2";
+      if (joint->max_effort_nm > 0) out << ", " << plain(joint->max_effort_nm) << " N m";
+      out << "  parent " << joint->parent;
+      if (joint->can) out << "  node " << joint->can->node_id;
+      out << "\n";
+    }
+  }
+
+  if (!rig.cameras.empty()) {
+    out << "\ncameras\n";
+    for (const auto& camera : rig.cameras) {
+      out << "  " << camera.name << ": " << camera.width_px << "x" << camera.height_px << " "
+          << (camera.format == config::PixelFormatConfig::kGrey8 ? "grey8" : "rgb8") << ", focal ";
+      if (camera.focal_x_px == camera.focal_y_px) {
+        out << plain(camera.focal_x_px) << " px";
+      } else {
+        out << plain(camera.focal_x_px) << " x " << plain(camera.focal_y_px) << " px";
+      }
+      out << ", principal point (" << plain(camera.principal_x_px) << ", "
+          << plain(camera.principal_y_px) << "), on " << camera.parent << " at "
+          << vector_text(camera.mount.xyz_m) << " m, rpy "
+          << vector_text(camera.mount.rpy_rad, 180.0 / std::numbers::pi) << " deg ("
+          << camera.backend << ")\n";
+    }
+  }
+  if (rig.stereo) {
+    out << "  stereo: " << rig.stereo->left_camera << " + " << rig.stereo->right_camera
+        << ", baseline " << plain(rig.stereo->baseline_m) << " m\n";
+  }
+  if (!rig.touch_sensors.empty()) {
+    out << "\ntouch sensors\n";
+    for (const auto& sensor : rig.touch_sensors) {
+      out << "  " << sensor.name << " on " << sensor.parent << "\n";
+    }
+  }
+
+  out << "\nloops\n";
+  for (const auto& loop : rig.loops) {
+    out << "  " << pad(loop.name, 12) << pad(plain(loop.rate_hz) + " Hz", 10)
+        << (loop.priority > 0 ? "SCHED_FIFO " + std::to_string(loop.priority) : "normal priority")
+        << ", cpu " << (loop.cpu < 0 ? "any" : std::to_string(loop.cpu)) << ", overrun "
+        << (loop.overrun == config::OverrunPolicy::kCatchUp ? "catch_up" : "skip") << "\n";
+  }
+
+  if (!rig.can_buses.empty()) {
+    out << "\nCAN buses\n";
+    for (const auto& bus : rig.can_buses) {
+      out << "  " << bus.name << ": interface " << bus.interface << ", "
+          << plain(bus.bitrate_bit_s / 1000.0) << " kbit/s";
+      if (bus.fd) out << ", FD data " << plain(bus.data_bitrate_bit_s / 1000.0) << " kbit/s";
+      const double load = config::joint_loop_can_load(rig, bus);
+      if (load > 0) {
+        out << ", joint loop worst-case load " << fixed(load * 100.0, 1) << "%";
+      } else {
+        out << ", no socketcan joints";
+      }
+      out << "\n";
+    }
+  }
+  out << "\nsim physics " << plain(rig.sim.physics_rate_hz) << " Hz; lock memory "
+      << (rig.runtime.lock_memory ? "yes" : "no") << "\n";
+}
+
+}  // namespace
+
+int run_check_config_command(std::span<const std::string> args) {
+  ArgumentParser parser("check-config", "FILE [--set key.path=value]...");
+  parser.positional("FILE", "rig file to validate, e.g. firmware_config/rigs/cambio.yaml")
+      .repeated_option(
+          "set", "KEY.PATH=VALUE",
+          "override a key before validation; the value is YAML, e.g. "
+          "--set loops.joint.rate_hz=500 or --set cameras.left_eye.origin_xyz_m=[0.02,0,0]");
+  if (!parser.parse(args)) return kExitOk;
+
+  std::vector<config::ConfigOverride> overrides;
+  std::vector<config::ConfigIssue> override_issues;
+  for (const auto& text : parser.values("set")) {
+    try {
+      overrides.push_back(config::parse_override(text));
+    } catch (const config::ConfigError& error) {
+      override_issues.insert(override_issues.end(), error.issues().begin(), error.issues().end());
+    }
+  }
+  if (!override_issues.empty()) {
+    report_config_error(config::ConfigError(std::move(override_issues)));
+    return kExitBadInput;
+  }
+
+  const auto rig = load_rig_or_report(*parser.positional_value("FILE"), overrides);
+  if (!rig) return kExitBadInput;
+  print_summary(*rig, std::cout);
+  return kExitOk;
+}
+
+}  // namespace cambio::app

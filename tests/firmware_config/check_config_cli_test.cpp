@@ -1,0 +1,104 @@
+// End to end: `cambio check-config` exits 0 on the shipped rigs and 2 on bad input, printing
+// each problem on its own line.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr together.
+};
+
+Run run_cambio(const std::string& arguments) {
+  const std::string command =
+      std::string(CAMBIO_BINARY_DIR) + "/bin/cambio check-config " + arguments + " 2>&1";
+  Run run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) {
+    run.output.append(buffer.data(), n);
+  }
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string shipped(const std::string& name) {
+  return std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name;
+}
+
+TEST(CheckConfigCli, ShippedRigsPassWithASummary) {
+  const Run cambio = run_cambio(shipped("cambio.yaml"));
+  EXPECT_EQ(cambio.exit_code, 0) << cambio.output;
+  EXPECT_NE(cambio.output.find("rig cambio"), std::string::npos) << cambio.output;
+  EXPECT_NE(cambio.output.find("neck_pan"), std::string::npos) << cambio.output;
+  EXPECT_NE(cambio.output.find("[-90.0, 90.0] deg"), std::string::npos) << cambio.output;
+  EXPECT_NE(cambio.output.find("1000 Hz"), std::string::npos) << cambio.output;
+  EXPECT_NE(cambio.output.find("640x480"), std::string::npos) << cambio.output;
+
+  const Run pan_tilt = run_cambio(shipped("pan_tilt.yaml"));
+  EXPECT_EQ(pan_tilt.exit_code, 0) << pan_tilt.output;
+}
+
+TEST(CheckConfigCli, OverrideIsApplied) {
+  const Run run = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=250");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("250 Hz"), std::string::npos) << run.output;
+}
+
+TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
+  const auto path = std::filesystem::temp_directory_path() / "cambio_check_config_bad.yaml";
+  {
+    std::ifstream in(shipped("pan_tilt.yaml"));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string from = "max_velocity_rad_s: 3.0";
+    text.replace(text.find(from), from.size(), "max_velocity_rad_s: fast");
+    text += "bogus_key: 1\n";
+    std::ofstream out(path);
+    out << text;
+  }
+  const Run run = run_cambio(path.string());
+  std::filesystem::remove(path);
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find(path.string() + ":13:25: joints.pan.max_velocity_rad_s: expected a "
+                                            "number > 0, found \"fast\"\n"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find(path.string() + ":48:1: bogus_key: unknown key"), std::string::npos)
+      << run.output;
+}
+
+TEST(CheckConfigCli, BadOverrideExitsTwo) {
+  const Run bad_value = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=0");
+  EXPECT_EQ(bad_value.exit_code, 2) << bad_value.output;
+  EXPECT_NE(bad_value.output.find("--set: loops.joint.rate_hz: expected a number"),
+            std::string::npos)
+      << bad_value.output;
+  const Run malformed = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz");
+  EXPECT_EQ(malformed.exit_code, 2) << malformed.output;
+  EXPECT_NE(malformed.output.find("(no '=')"), std::string::npos) << malformed.output;
+}
+
+TEST(CheckConfigCli, MissingFileExitsTwo) {
+  const Run run = run_cambio("/nonexistent/rig.yaml");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("/nonexistent/rig.yaml: cannot read the file"), std::string::npos)
+      << run.output;
+}
+
+TEST(CheckConfigCli, MissingArgumentAndHelp) {
+  EXPECT_EQ(run_cambio("").exit_code, 2);
+  const Run help = run_cambio("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("--set"), std::string::npos) << help.output;
+}
+
+}  // namespace

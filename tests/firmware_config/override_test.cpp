@@ -1,0 +1,142 @@
+// Tests of `--set key.path=value` overrides (firmware_config/src/config_document.cpp).
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "cambio/config/rig_loader.hpp"
+#include "rig_test_support.hpp"
+
+namespace cambio::config {
+namespace {
+
+using test::describe;
+using test::issues_of;
+using test::small_rig;
+
+std::vector<ConfigOverride> sets(std::initializer_list<std::string_view> texts) {
+  std::vector<ConfigOverride> overrides;
+  for (const auto text : texts) overrides.push_back(parse_override(text));
+  return overrides;
+}
+
+std::vector<ConfigIssue> parse_issues(std::string_view text) {
+  try {
+    parse_override(text);
+  } catch (const ConfigError& error) {
+    return error.issues();
+  }
+  ADD_FAILURE() << "expected " << text << " to be refused";
+  return {};
+}
+
+TEST(ParseOverride, SplitsAtTheFirstEquals) {
+  const ConfigOverride o = parse_override("rig.name=a=b");
+  EXPECT_EQ(o.key_path, "rig.name");
+  EXPECT_EQ(o.value, "a=b");
+}
+
+TEST(ParseOverride, RefusesMalformedText) {
+  const auto no_equals = parse_issues("loops.joint.rate_hz");
+  ASSERT_EQ(no_equals.size(), 1u);
+  EXPECT_EQ(no_equals[0].to_string(),
+            "--set: expected key.path=value, found \"loops.joint.rate_hz\" (no '=')");
+  const auto empty_path = parse_issues("=5");
+  ASSERT_EQ(empty_path.size(), 1u);
+  EXPECT_EQ(empty_path[0].to_string(),
+            "--set: expected key.path=value, found \"=5\" (empty key path)");
+  const auto empty_name = parse_issues("loops..rate_hz=5");
+  ASSERT_EQ(empty_name.size(), 1u);
+  EXPECT_EQ(empty_name[0].file, "--set");
+  EXPECT_NE(empty_name[0].message.find("an empty name"), std::string::npos);
+  EXPECT_EQ(parse_issues("loops.=5").size(), 1u);
+}
+
+TEST(Override, ChangesAValue) {
+  const RigConfig rig =
+      load_rig_from_string(small_rig(), "test.yaml", sets({"joints.pan.max_velocity_rad_s=3.5"}));
+  EXPECT_EQ(rig.find_joint("pan")->max_velocity_rad_s, 3.5);
+}
+
+TEST(Override, ParsesTheValueAsYaml) {
+  const RigConfig rig = load_rig(
+      test::shipped_rig_path("cambio.yaml"),
+      sets({"cameras.left_eye.origin_xyz_m=[0.03,0,0]", "joints.neck_pan.max_position_deg=60"}));
+  EXPECT_EQ(rig.find_camera("left_eye")->mount.xyz_m, (std::array<double, 3>{0.03, 0.0, 0.0}));
+  EXPECT_DOUBLE_EQ(rig.find_joint("neck_pan")->max_position_rad, std::numbers::pi / 3);
+}
+
+TEST(Override, CreatesMissingMaps) {
+  // pan_tilt.yaml has neither loops nor sim.
+  const RigConfig rig = load_rig(test::shipped_rig_path("pan_tilt.yaml"),
+                                 sets({"loops.joint.rate_hz=500", "sim.physics_rate_hz=2000"}));
+  EXPECT_EQ(rig.find_loop("joint")->rate_hz, 500.0);
+  EXPECT_EQ(rig.sim.physics_rate_hz, 2000.0);
+}
+
+TEST(Override, IndexesAList) {
+  const RigConfig rig = load_rig(test::shipped_rig_path("cambio.yaml"),
+                                 sets({"cameras.right_eye.principal_point_px.0=300"}));
+  EXPECT_EQ(rig.find_camera("right_eye")->principal_x_px, 300.0);
+}
+
+TEST(Override, InvalidValueIsReportedAgainstSet) {
+  const auto issues = issues_of(small_rig(), sets({"joints.pan.max_velocity_rad_s=fast"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: joints.pan.max_velocity_rad_s: expected a number > 0, found \"fast\"");
+}
+
+TEST(Override, UnknownKeyIsReportedAgainstSetWithASuggestion) {
+  const auto issues = issues_of(small_rig(), sets({"joints.pan.max_velocty_rad_s=3"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].file, "--set");
+  EXPECT_EQ(issues[0].key_path, "joints.pan.max_velocty_rad_s");
+  EXPECT_NE(issues[0].message.find("did you mean \"max_velocity_rad_s\"?"), std::string::npos);
+}
+
+TEST(Override, ANewMapIsCheckedLikeTheFile) {
+  const auto issues = issues_of(small_rig(), sets({"cameras.eye.bogus={a: 1}"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: cameras.eye.bogus: unknown key \"bogus\"; expected one of "
+            "backend, focal_px, focal_x_px, focal_y_px, format, "
+            "height_px, image_noise_std, origin_rpy_deg, origin_rpy_rad, "
+            "origin_xyz_m, parent, principal_point_px, width_px");
+}
+
+TEST(Override, ThroughAScalarIsRefused) {
+  const auto issues = issues_of(small_rig(), sets({"rig.name.first=x"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: rig.name.first: cannot set first under rig.name: rig.name is the value "
+            "\"test\", not a map");
+}
+
+TEST(Override, UnparsableValueIsRefused) {
+  const auto issues = issues_of(small_rig(), sets({"joints.pan.axis=[0, 0"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].file, "--set");
+  EXPECT_EQ(issues[0].key_path, "joints.pan.axis");
+  EXPECT_NE(issues[0].message.find("expected a YAML value"), std::string::npos);
+}
+
+TEST(Override, FileAndOverrideProblemsComeTogether) {
+  const auto issues =
+      issues_of(test::small_rig_with(31, "    focal_px: 0"), sets({"loops.joint.rate_hz=0"}));
+  ASSERT_EQ(issues.size(), 2u) << describe(issues);
+  EXPECT_EQ(issues[0].file, "--set");
+  EXPECT_EQ(issues[0].key_path, "loops.joint.rate_hz");
+  EXPECT_EQ(issues[1].to_string(),
+            "test.yaml:31:15: cameras.eye.focal_px: expected a number > 0, found 0");
+}
+
+TEST(Override, ConsistencyChecksSeeTheOverriddenValue) {
+  // The override moves the lower limit above the file's upper limit.
+  const auto issues = issues_of(small_rig(), sets({"joints.pan.min_position_deg=120"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].file, "--set");
+  EXPECT_EQ(issues[0].key_path, "joints.pan.min_position_deg");
+}
+
+}  // namespace
+}  // namespace cambio::config

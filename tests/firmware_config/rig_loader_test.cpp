@@ -1,0 +1,433 @@
+// Tests of firmware_config/src/rig_loader.cpp: the shipped rigs load with the values they state,
+// and every class of bad input is refused with its exact file, line, column and key path.
+#include "cambio/config/rig_loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "rig_test_support.hpp"
+
+namespace cambio::config {
+namespace {
+
+using test::describe;
+using test::issues_of;
+using test::small_rig;
+using test::small_rig_with;
+
+constexpr double kPi = std::numbers::pi;
+
+/// Asserts `issues` holds exactly one issue, at `line`:`column` with `key_path`, whose message
+/// contains `text`.
+void expect_single_issue(const std::vector<ConfigIssue>& issues, int line, int column,
+                         const std::string& key_path, const std::string& text) {
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  const ConfigIssue& issue = issues.front();
+  EXPECT_EQ(issue.file, "test.yaml");
+  EXPECT_EQ(issue.line, line) << issue.to_string();
+  EXPECT_EQ(issue.column, column) << issue.to_string();
+  EXPECT_EQ(issue.key_path, key_path) << issue.to_string();
+  EXPECT_NE(issue.message.find(text), std::string::npos) << issue.to_string();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The shipped rigs
+
+TEST(ShippedRigs, CambioLoadsWithItsStatedValues) {
+  const RigConfig rig = load_rig(test::shipped_rig_path("cambio.yaml"));
+  EXPECT_EQ(rig.name, "cambio");
+  ASSERT_EQ(rig.joints.size(), 15u);
+  ASSERT_EQ(rig.groups.size(), 3u);
+  EXPECT_EQ(rig.groups[0].joints, (std::vector<std::string>{"neck_pan", "neck_tilt", "eye_tilt",
+                                                            "left_eye_pan", "right_eye_pan"}));
+
+  // _deg keys arrive in radians: -90 deg is -pi/2, 140 deg is 7 pi / 9.
+  const JointConfig* neck_pan = rig.find_joint("neck_pan");
+  ASSERT_NE(neck_pan, nullptr);
+  EXPECT_DOUBLE_EQ(neck_pan->min_position_rad, -kPi / 2);
+  EXPECT_DOUBLE_EQ(neck_pan->max_position_rad, kPi / 2);
+  EXPECT_EQ(neck_pan->max_velocity_rad_s, 2.0);
+  EXPECT_EQ(neck_pan->parent, "base");
+  EXPECT_EQ(neck_pan->origin.xyz_m, (std::array<double, 3>{0.0, 0.0, 1.2}));
+  EXPECT_EQ(neck_pan->axis, (std::array<double, 3>{0.0, 0.0, 1.0}));
+  EXPECT_EQ(neck_pan->initial_position_rad, 0.0);
+  EXPECT_EQ(neck_pan->servo.encoder_counts_per_rev, 65536);
+  ASSERT_TRUE(neck_pan->can.has_value());
+  EXPECT_EQ(neck_pan->can->node_id, 1);
+  EXPECT_EQ(neck_pan->can->gear_ratio, 100.0);
+  EXPECT_DOUBLE_EQ(rig.find_joint("left_elbow")->max_position_rad, 7 * kPi / 9);
+  EXPECT_DOUBLE_EQ(rig.find_joint("neck_tilt")->max_position_rad, kPi / 4);
+
+  const CameraConfig* left = rig.find_camera("left_eye");
+  ASSERT_NE(left, nullptr);
+  EXPECT_EQ(left->width_px, 640);
+  EXPECT_EQ(left->height_px, 480);
+  EXPECT_EQ(left->focal_x_px, 554.256);
+  EXPECT_EQ(left->focal_y_px, 554.256);
+  EXPECT_EQ(left->principal_x_px, 319.5);
+  EXPECT_EQ(left->format, PixelFormatConfig::kRgb8);
+  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[0], -kPi / 2);
+  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[2], -kPi / 2);
+
+  ASSERT_TRUE(rig.stereo.has_value());
+  EXPECT_EQ(rig.stereo->baseline_m, 0.12);
+  EXPECT_EQ(rig.touch_sensors.size(), 2u);
+  ASSERT_EQ(rig.can_buses.size(), 2u);
+  EXPECT_EQ(rig.find_can_bus("can1")->bitrate_bit_s, 1'000'000);
+  EXPECT_EQ(rig.find_loop("joint")->priority, 80);
+  EXPECT_EQ(rig.find_loop("camera")->rate_hz, 30.0);
+  EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
+  EXPECT_FALSE(rig.runtime.lock_memory);
+}
+
+TEST(ShippedRigs, PanTiltLoadsAndTakesTheDefaultLoops) {
+  const RigConfig rig = load_rig(test::shipped_rig_path("pan_tilt.yaml"));
+  EXPECT_EQ(rig.name, "pan_tilt");
+  ASSERT_EQ(rig.joints.size(), 2u);
+  EXPECT_DOUBLE_EQ(rig.find_joint("pan")->min_position_rad, -17 * kPi / 18);
+  EXPECT_DOUBLE_EQ(rig.find_joint("tilt")->max_position_rad, kPi / 3);
+  EXPECT_EQ(rig.cameras.size(), 1u);
+  EXPECT_FALSE(rig.stereo.has_value());
+  ASSERT_EQ(rig.loops.size(), 4u);
+  const std::vector<std::pair<std::string, double>> expected = {
+      {"joint", 1000.0}, {"control", 200.0}, {"perception", 60.0}, {"camera", 30.0}};
+  for (const auto& [name, rate_hz] : expected) {
+    const LoopConfig* loop = rig.find_loop(name);
+    ASSERT_NE(loop, nullptr) << name;
+    EXPECT_EQ(loop->rate_hz, rate_hz) << name;
+    EXPECT_EQ(loop->priority, 0);
+    EXPECT_EQ(loop->cpu, -1);
+    EXPECT_EQ(loop->overrun, OverrunPolicy::kSkip);
+  }
+  EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
+}
+
+TEST(ShippedRigs, ShippedConfigDirHoldsThem) {
+  EXPECT_NO_THROW(load_rig(shipped_config_dir() + "/rigs/cambio.yaml"));
+}
+
+TEST(SmallRig, LoadsClean) {
+  const RigConfig rig = load_rig_from_string(small_rig(), "test.yaml");
+  EXPECT_EQ(rig.joints.size(), 2u);
+  EXPECT_EQ(rig.find_joint("tilt")->parent, "pan");
+  EXPECT_EQ(rig.loops.size(), 4u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// One test per class of bad input
+
+TEST(BadRig, UnknownKeySuggestsTheIntendedOne) {
+  const auto issues = issues_of(small_rig_with(11, "    max_velocty_rad_s: 2.0"));
+  ASSERT_EQ(issues.size(), 2u) << describe(issues);
+  // Sorted by position: the map (missing key) comes before the misspelt key.
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:5:5: joints.pan.max_velocity_rad_s: missing key (expected a number > 0)");
+  EXPECT_EQ(issues[1].to_string(),
+            "test.yaml:11:5: joints.pan.max_velocty_rad_s: unknown key \"max_velocty_rad_s\"; did "
+            "you mean \"max_velocity_rad_s\"?");
+}
+
+TEST(BadRig, WrongTypeNamesExpectedAndFound) {
+  const auto issues = issues_of(small_rig_with(11, "    max_velocity_rad_s: fast"));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(
+      issues[0].to_string(),
+      "test.yaml:11:25: joints.pan.max_velocity_rad_s: expected a number > 0, found \"fast\"");
+}
+
+TEST(BadRig, WrongTypeListForNumber) {
+  expect_single_issue(issues_of(small_rig_with(29, "    width_px: [640]")), 29, 15,
+                      "cameras.eye.width_px",
+                      "expected an integer in [1, 65535], found a list of 1");
+}
+
+TEST(BadRig, MissingKeyIsReportedAtItsMap) {
+  auto lines = test::kSmallRigLines;
+  lines.erase(lines.begin() + 10);  // Line 11: pan's max_velocity_rad_s.
+  expect_single_issue(issues_of(test::join_lines(lines)), 5, 5, "joints.pan.max_velocity_rad_s",
+                      "missing key (expected a number > 0)");
+}
+
+TEST(BadRig, MissingSectionIsReportedAtTheDocument) {
+  auto lines = test::kSmallRigLines;
+  lines.erase(lines.begin() + 23, lines.begin() + 25);  // Lines 24-25: groups.
+  const auto issues = issues_of(test::join_lines(lines));
+  ASSERT_EQ(issues.size(), 3u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:1:1: groups: missing key (expected a map of joint groups by name)");
+  // And each joint is then in no group, at its own map.
+  EXPECT_EQ(issues[1].key_path, "joints.pan.group");
+  EXPECT_EQ(issues[1].line, 5);
+  EXPECT_EQ(issues[2].key_path, "joints.tilt.group");
+}
+
+TEST(BadRig, OutOfRangeNodeId) {
+  expect_single_issue(
+      issues_of(small_rig_with(
+          13, "    can: {node_id: 200, gear_ratio: 50, encoder_counts_per_rev: 4096}")),
+      13, 20, "joints.pan.can.node_id", "expected an integer in [1, 127], found 200");
+  expect_single_issue(
+      issues_of(small_rig_with(
+          13, "    can: {node_id: 0, gear_ratio: 50, encoder_counts_per_rev: 4096}")),
+      13, 20, "joints.pan.can.node_id", "expected an integer in [1, 127], found 0");
+}
+
+TEST(BadRig, LowerLimitAboveUpper) {
+  expect_single_issue(issues_of(small_rig_with(9, "    min_position_deg: 100")), 9, 23,
+                      "joints.pan.min_position_deg",
+                      "expected a lower limit below max_position_deg (90 deg), found 100 deg");
+}
+
+TEST(BadRig, InitialPositionOutsideLimits) {
+  expect_single_issue(issues_of(small_rig_with(
+                          12, "    max_acceleration_rad_s2: 20.0\n    initial_position_deg: 120")),
+                      13, 27, "joints.pan.initial_position_deg",
+                      "expected a position within the limits");
+}
+
+TEST(BadRig, RateOfZero) {
+  const std::string yaml = small_rig() + "loops:\n  joint: {rate_hz: 0}\n";  // Lines 35-36.
+  expect_single_issue(issues_of(yaml), 36, 20, "loops.joint.rate_hz",
+                      "expected a number in (0, 100000], found 0");
+}
+
+TEST(BadRig, CustomLoopNeedsARate) {
+  const std::string yaml = small_rig() + "loops:\n  logger: {priority: 10}\n";
+  expect_single_issue(issues_of(yaml), 36, 11, "loops.logger.rate_hz", "missing key");
+}
+
+TEST(BadRig, GroupNamesAnUnknownJoint) {
+  expect_single_issue(issues_of(small_rig_with(
+                          25, "  head: {backend: sim, joints: [pan, tilt, roll], can_bus: can0}")),
+                      25, 44, "groups.head.joints[2]",
+                      "expected a joint (pan, tilt), found \"roll\"");
+}
+
+TEST(BadRig, JointInNoGroup) {
+  expect_single_issue(
+      issues_of(small_rig_with(25, "  head: {backend: sim, joints: [pan], can_bus: can0}")), 15, 5,
+      "joints.tilt", "expected the joint in one group's joint list, found it in none");
+}
+
+TEST(BadRig, JointInTwoGroups) {
+  expect_single_issue(
+      issues_of(small_rig_with(25,
+                               "  head: {backend: sim, joints: [pan, tilt], can_bus: can0}\n"
+                               "  other: {backend: sim, joints: [tilt]}")),
+      26, 34, "groups.other.joints[0]", "already in group \"head\"");
+}
+
+TEST(BadRig, JointGroupDisagreesWithTheGroupsList) {
+  // groups.head lists tilt, but tilt says it belongs to "arm".
+  expect_single_issue(issues_of(small_rig_with(15, "    group: arm")), 15, 12, "joints.tilt.group",
+                      "expected \"head\" (groups.head.joints lists this joint), found \"arm\"");
+}
+
+TEST(BadRig, JointGroupKeyNamesAnotherExistingGroup) {
+  // Both groups exist; tilt is listed under head but says left.
+  const std::string yaml =
+      test::patched(test::split_lines(small_rig_with(15, "    group: left")), 25,
+                    "  head: {backend: sim, joints: [pan, tilt], can_bus: can0}\n"
+                    "  left: {backend: sim, joints: [pan]}");
+  const auto issues = issues_of(yaml);
+  ASSERT_EQ(issues.size(), 2u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:15:12: joints.tilt.group: expected \"head\" (groups.head.joints lists this "
+            "joint), found \"left\"");
+  EXPECT_EQ(issues[1].key_path, "groups.left.joints[0]");
+}
+
+TEST(BadRig, ParentNamesAnUnknownJoint) {
+  expect_single_issue(issues_of(small_rig_with(16, "    parent: pann")), 16, 13,
+                      "joints.tilt.parent", "found \"pann\"; did you mean \"pan\"?");
+}
+
+TEST(BadRig, ParentChainWithACycle) {
+  expect_single_issue(issues_of(small_rig_with(6, "    parent: tilt")), 6, 13, "joints.pan.parent",
+                      "found a cycle: pan -> tilt -> pan");
+}
+
+TEST(BadRig, CameraParentUnknown) {
+  expect_single_issue(issues_of(small_rig_with(28, "    parent: nose")), 28, 13,
+                      "cameras.eye.parent", "expected \"base\" or a joint (base, pan, tilt)");
+}
+
+TEST(BadRig, StereoCameraUnknown) {
+  const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
+  ASSERT_EQ(lines.at(229), "  left_camera: left_eye");
+  const auto issues = issues_of(test::patched(lines, 230, "  left_camera: left_ey"));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:230:16: stereo.left_camera: expected a camera (left_eye, right_eye), found "
+            "\"left_ey\"; did you mean \"left_eye\"?");
+}
+
+TEST(BadRig, StereoBaselineDisagreesWithTheEyeJoints) {
+  const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
+  ASSERT_EQ(lines.at(231), "  baseline_m: 0.12");
+  const auto issues = issues_of(test::patched(lines, 232, "  baseline_m: 0.10"));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:232:15: stereo.baseline_m: expected 0.12 (the distance in y between the "
+            "origins of joints left_eye_pan and right_eye_pan), found 0.1");
+  // Within 1e-6 m is agreement.
+  EXPECT_NO_THROW(load_rig_from_string(test::patched(lines, 232, "  baseline_m: 0.1200005"), "t"));
+}
+
+TEST(BadRig, SocketcanGroupWithoutABus) {
+  expect_single_issue(
+      issues_of(small_rig_with(25, "  head: {backend: socketcan, joints: [pan, tilt]}")), 25, 9,
+      "groups.head.can_bus", "a socketcan group needs can_bus");
+  expect_single_issue(issues_of(small_rig_with(
+                          25, "  head: {backend: socketcan, joints: [pan, tilt], can_bus: can9}")),
+                      25, 60, "groups.head.can_bus",
+                      "expected one of can_buses (can0), found \"can9\"");
+}
+
+TEST(BadRig, SocketcanJointWithoutCanSettings) {
+  auto lines = test::kSmallRigLines;
+  lines[24] = "  head: {backend: socketcan, joints: [pan, tilt], can_bus: can0}";
+  lines.erase(lines.begin() + 22);  // Line 23: tilt's can map.
+  expect_single_issue(issues_of(test::join_lines(lines)), 15, 5, "joints.tilt.can",
+                      "missing key (a joint of socketcan group head needs can:");
+}
+
+TEST(BadRig, DuplicateNodeIdsOnOneBus) {
+  expect_single_issue(
+      issues_of(small_rig_with(
+          23, "    can: {node_id: 1, gear_ratio: 50, encoder_counts_per_rev: 4096}")),
+      23, 20, "joints.tilt.can.node_id",
+      "expected a node id unique on bus can0, found 1 (already used by pan)");
+}
+
+TEST(BadRig, FdDataBitrateWithoutFd) {
+  expect_single_issue(
+      issues_of(small_rig_with(
+          34, "  can0: {interface: can0, bitrate_bit_s: 1000000, data_bitrate_bit_s: 5000000}")),
+      34, 71, "can_buses.can0.data_bitrate_bit_s", "set fd: true for CAN FD");
+  // With fd it is accepted.
+  const RigConfig rig = load_rig_from_string(
+      small_rig_with(34,
+                     "  can0: {interface: can0, bitrate_bit_s: 1000000, fd: true, "
+                     "data_bitrate_bit_s: 5000000}"),
+      "test.yaml");
+  EXPECT_TRUE(rig.can_buses[0].fd);
+  EXPECT_EQ(rig.can_buses[0].data_bitrate_bit_s, 5'000'000);
+}
+
+TEST(CanLoad, FrameSizesAreTheWorstCaseClosedForm) {
+  EXPECT_EQ(can_frame_worst_case_bits(8), 135);
+  EXPECT_EQ(can_frame_worst_case_bits(0), 55);
+}
+
+TEST(CanLoad, TwoSocketcanJointsAt1kHzFitOneMegabit) {
+  const RigConfig rig = load_rig_from_string(
+      small_rig_with(25, "  head: {backend: socketcan, joints: [pan, tilt], can_bus: can0}"), "t");
+  // Per SYNC: 2 joints x (RPDO + TPDO) x 135 bits + 55 bits of SYNC, 1000 times a second.
+  EXPECT_DOUBLE_EQ(joint_loop_can_load(rig, rig.can_buses[0]), (2 * 2 * 135 + 55) * 1000 / 1e6);
+}
+
+TEST(BadRig, JointLoopTrafficExceedsTheBus) {
+  const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
+  ASSERT_EQ(lines.at(238), "  can0: {interface: can0, bitrate_bit_s: 1000000}");
+  // Five head drives at 1 kHz: 5 x 270 + 55 = 1405 bits per cycle, 140.5% of 1 Mbit/s.
+  const auto issues = issues_of(test::patched(
+      lines, 198,
+      "  head: {backend: socketcan, joints: [neck_pan, neck_tilt, eye_tilt, left_eye_pan, "
+      "right_eye_pan], can_bus: can0}"));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].line, 239);
+  EXPECT_EQ(issues[0].column, 42);
+  EXPECT_EQ(issues[0].key_path, "can_buses.can0.bitrate_bit_s");
+  EXPECT_NE(issues[0].message.find("140.5% load"), std::string::npos) << issues[0].message;
+  EXPECT_NE(issues[0].message.find("at most 640 Hz"), std::string::npos) << issues[0].message;
+}
+
+TEST(BadRig, AngleInBothDegreesAndRadians) {
+  expect_single_issue(
+      issues_of(small_rig_with(9, "    min_position_deg: -90\n    min_position_rad: -1.0")), 10, 5,
+      "joints.pan.min_position_rad",
+      "expected either min_position_deg or min_position_rad, found both");
+}
+
+TEST(BadRig, ZeroAxis) {
+  expect_single_issue(issues_of(small_rig_with(8, "    axis: [0, 0, 0]")), 8, 11, "joints.pan.axis",
+                      "expected a non-zero axis vector");
+}
+
+TEST(SmallRig, AxisIsNormalised) {
+  const RigConfig rig = load_rig_from_string(small_rig_with(8, "    axis: [0, 3, 4]"), "t");
+  EXPECT_DOUBLE_EQ(rig.joints[0].axis[1], 0.6);
+  EXPECT_DOUBLE_EQ(rig.joints[0].axis[2], 0.8);
+}
+
+TEST(BadRig, FocalNotPositive) {
+  expect_single_issue(issues_of(small_rig_with(31, "    focal_px: 0")), 31, 15,
+                      "cameras.eye.focal_px", "expected a number > 0, found 0");
+}
+
+TEST(BadRig, FocalGivenTwoWays) {
+  expect_single_issue(issues_of(small_rig_with(31, "    focal_px: 500\n    focal_x_px: 500")), 32,
+                      17, "cameras.eye.focal_x_px", "found both");
+}
+
+TEST(BadRig, PrincipalPointOutsideTheImage) {
+  expect_single_issue(issues_of(small_rig_with(32, "    principal_point_px: [700, 239.5]")), 32, 25,
+                      "cameras.eye.principal_point_px",
+                      "expected a point inside the 640x480 image (x in [-0.5, 639.5], y in [-0.5, "
+                      "479.5]), found [700, 239.5]");
+}
+
+TEST(BadRig, DuplicateJoint) {
+  const auto issues = issues_of(small_rig_with(14, "  pan:"));
+  ASSERT_FALSE(issues.empty());
+  EXPECT_EQ(issues[0].line, 14);
+  EXPECT_EQ(issues[0].column, 3);
+  EXPECT_EQ(issues[0].key_path, "joints.pan");
+}
+
+TEST(BadRig, EveryProblemIsReportedAtOnce) {
+  auto lines = test::kSmallRigLines;
+  lines[10] = "    max_velocity_rad_s: fast";  // 11
+  lines[19] = "    max_position_degs: 45";     // 20
+  lines[30] = "    focal_px: -1";              // 31
+  const auto issues = issues_of(test::join_lines(lines));
+  // Three bad keys: the wrong type, the unknown key (its intended key then missing) and the
+  // out-of-range focal length.
+  ASSERT_EQ(issues.size(), 4u) << describe(issues);
+  EXPECT_EQ(issues[0].line, 11);
+  EXPECT_EQ(issues[1].key_path, "joints.tilt.max_position_deg");
+  EXPECT_EQ(issues[1].line, 15);
+  EXPECT_EQ(issues[2].key_path, "joints.tilt.max_position_degs");
+  EXPECT_EQ(issues[2].line, 20);
+  EXPECT_EQ(issues[3].key_path, "cameras.eye.focal_px");
+  EXPECT_EQ(issues[3].line, 31);
+}
+
+TEST(BadRig, ConfigErrorMessageListsEveryIssue) {
+  try {
+    load_rig_from_string(small_rig_with(11, "    max_velocity_rad_s: fast\n    bogus: 1"),
+                         "test.yaml");
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("2 configuration problems"), std::string::npos) << what;
+    EXPECT_NE(what.find("test.yaml:11:25:"), std::string::npos) << what;
+    EXPECT_NE(what.find("test.yaml:12:5:"), std::string::npos) << what;
+  }
+}
+
+TEST(BadRig, MissingFile) {
+  try {
+    load_rig("/nonexistent/rig.yaml");
+    FAIL() << "expected a ConfigError";
+  } catch (const ConfigError& error) {
+    ASSERT_EQ(error.issues().size(), 1u);
+    EXPECT_EQ(error.issues()[0].file, "/nonexistent/rig.yaml");
+  }
+}
+
+}  // namespace
+}  // namespace cambio::config

@@ -29,7 +29,7 @@ class SeqlockChannel {
   /// Single writer. Wait-free; real-time safe.
   void write(const T& value) noexcept {
     std::array<std::uint64_t, kWords> staged{};
-    std::memcpy(staged.data(), &value, sizeof(T));
+    std::memcpy(staged.data(), static_cast<const void*>(&value), sizeof(T));
     const std::uint64_t seq = sequence_.load(std::memory_order_relaxed);
     sequence_.store(seq + 1, std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_release);
@@ -45,7 +45,7 @@ class SeqlockChannel {
     for (std::size_t i = 0; i < kWords; ++i) staged[i] = words_[i].load(std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_acquire);
     if (sequence_.load(std::memory_order_relaxed) != before) return false;
-    std::memcpy(&out, staged.data(), sizeof(T));
+    std::memcpy(static_cast<void*>(&out), staged.data(), sizeof(T));
     if (version != nullptr) *version = before / 2;
     return true;
   }

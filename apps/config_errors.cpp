@@ -1,0 +1,23 @@
+#include "config_errors.hpp"
+
+#include <iostream>
+
+namespace cambio::app {
+
+void report_config_error(const config::ConfigError& error) {
+  for (const auto& issue : error.issues()) std::cerr << issue.to_string() << "\n";
+  std::cerr << error.issues().size() << (error.issues().size() == 1 ? " problem" : " problems")
+            << " found; nothing was started.\n";
+}
+
+std::optional<config::RigConfig> load_rig_or_report(
+    const std::string& path, const std::vector<config::ConfigOverride>& overrides) {
+  try {
+    return config::load_rig(path, overrides);
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return std::nullopt;
+  }
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,19 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cambio/config/rig_loader.hpp"
+
+namespace cambio::app {
+
+/// Loads a rig; on a ConfigError prints every issue (one per line, file:line:col first) to
+/// stderr and returns nullopt, so the command exits with kExitBadInput.
+std::optional<config::RigConfig> load_rig_or_report(
+    const std::string& path, const std::vector<config::ConfigOverride>& overrides);
+
+/// Prints each issue of a ConfigError on its own line to stderr.
+void report_config_error(const config::ConfigError& error);
+
+}  // namespace cambio::app

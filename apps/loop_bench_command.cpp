@@ -1,0 +1,127 @@
+// `cambio loop-bench`: how punctual can loops be on this machine? Runs the realtime executor with
+// loops that do no work and reports wake-up latency percentiles, overruns and allocations, so a
+// user can choose loop rates (and compare with cyclictest run beside it).
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "argument_parser.hpp"
+#include "cambio/config/rig_loader.hpp"
+#include "cambio/hal/monotonic_clock.hpp"
+#include "cambio/runtime/realtime_executor.hpp"
+#include "command.hpp"
+#include "config_errors.hpp"
+#include "stop_signal.hpp"
+
+namespace cambio::app {
+namespace {
+
+class IdleLoop final : public hal::Loop {
+ public:
+  explicit IdleLoop(std::string name) : name_(std::move(name)) {}
+  const std::string& name() const override { return name_; }
+  hal::Status update(const hal::LoopTick&) noexcept override { return hal::Status::kOk; }
+
+ private:
+  std::string name_;
+};
+
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += ' ';
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+int run_loop_bench_command(std::span<const std::string> args) {
+  ArgumentParser parser("loop-bench", "[--config RIG] [--rate-hz HZ] [--duration-s S] [--json]");
+  parser.option("config", "RIG", "run the loops defined in this rig file (rates, priorities, CPUs)")
+      .repeated_option("set", "KEY=VALUE", "override a rig key, e.g. loops.joint.rate_hz=500")
+      .option("rate-hz", "HZ", "without --config: one loop at this rate (default 1000)")
+      .option("priority", "N", "without --config: SCHED_FIFO priority, 0 for none (default 80)")
+      .option("cpu", "N", "without --config: pin the loop to this CPU (default: any)")
+      .option("duration-s", "S", "how long to run (default 10)")
+      .flag("no-lock-memory", "do not mlockall (default: lock, as cyclictest -m)")
+      .flag("json", "print one JSON object: {\"loops\": [...], ...}");
+  if (!parser.parse(args)) return kExitOk;
+
+  const double duration_s = parser.number("duration-s", 10.0);
+  if (!(duration_s > 0.0)) throw UsageError("loop-bench: --duration-s must be > 0");
+  if (parser.has("config") &&
+      (parser.has("rate-hz") || parser.has("priority") || parser.has("cpu"))) {
+    throw UsageError(
+        "loop-bench: --rate-hz, --priority and --cpu describe a single loop; with --config the "
+        "rig's loops are used (change them with --set loops.<name>.rate_hz=...)");
+  }
+  if (!parser.has("config") && parser.has("set")) {
+    throw UsageError("loop-bench: --set needs --config");
+  }
+
+  std::vector<config::LoopConfig> schedules;
+  if (parser.has("config")) {
+    std::vector<config::ConfigOverride> overrides;
+    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
+    const auto rig = load_rig_or_report(parser.value("config"), overrides);
+    if (!rig) return kExitBadInput;
+    schedules = rig->loops;
+  } else {
+    config::LoopConfig loop;
+    loop.name = "loop";
+    loop.rate_hz = parser.number("rate-hz", 1000.0);
+    loop.priority = static_cast<int>(parser.integer("priority", 80));
+    loop.cpu = static_cast<int>(parser.integer("cpu", -1));
+    if (!(loop.rate_hz > 0.0) || loop.rate_hz > 100'000.0) {
+      throw UsageError("loop-bench: --rate-hz must be in (0, 100000]");
+    }
+    if (loop.priority < 0 || loop.priority > 99) {
+      throw UsageError("loop-bench: --priority must be in 0..99");
+    }
+    schedules.push_back(loop);
+  }
+
+  std::vector<IdleLoop> loops;
+  loops.reserve(schedules.size());
+  std::vector<runtime::ScheduledLoop> scheduled;
+  for (const auto& schedule : schedules) {
+    loops.emplace_back(schedule.name);
+    scheduled.push_back({&loops.back(), schedule});
+  }
+
+  const auto& stop = install_stop_signal_handlers();
+  hal::MonotonicClock clock;
+  runtime::RealtimeExecutor executor(clock, scheduled,
+                                     {.lock_memory = !parser.flag_set("no-lock-memory")});
+  const bool json = parser.flag_set("json");
+  if (!json) {
+    std::cerr << "loop-bench: running " << schedules.size() << " loop(s) for " << duration_s
+              << " s (Ctrl-C stops early)\n";
+  }
+  const auto warnings =
+      executor.run(stop, static_cast<std::int64_t>(duration_s * 1e9), /*print_warnings=*/!json);
+
+  const auto& stats = executor.statistics();
+  if (json) {
+    std::cout << "{\"duration_s\": " << duration_s << ", \"loops\": [";
+    for (std::size_t i = 0; i < stats.size(); ++i) {
+      std::cout << (i == 0 ? "" : ", ") << runtime::statistics_json(stats[i]);
+    }
+    std::cout << "], \"warnings\": [";
+    for (std::size_t i = 0; i < warnings.size(); ++i) {
+      std::cout << (i == 0 ? "" : ", ") << json_string(warnings[i]);
+    }
+    std::cout << "]}\n";
+  } else {
+    std::cout << runtime::format_statistics_table(stats.data(), stats.size());
+  }
+  return kExitOk;
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Câmbio's front door: installs what is missing from Debian's apt registry, configures and
+# builds, then runs the main job or the tests.
+#
+#   bash cmake/setup.sh run  [cambio run arguments...]   # the main job on the sim default
+#   bash cmake/setup.sh test [ctest arguments...]        # every test
+#   bash cmake/setup.sh build                            # only install and build
+#
+# Environment: CAMBIO_BUILD_DIR (default: build), CAMBIO_CMAKE_ARGS (extra configure arguments,
+# e.g. -DCAMBIO_WARNINGS_AS_ERRORS=ON), CAMBIO_JOBS (default: all cores).
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir=${CAMBIO_BUILD_DIR:-$root/build}
+jobs=${CAMBIO_JOBS:-$(nproc)}
+mode=${1:-build}
+[ $# -gt 0 ] && shift
+
+# Everything comes from Debian 12's own packages.
+packages=(
+  g++ cmake make pkg-config git
+  libeigen3-dev libyaml-cpp-dev
+  libmujoco-dev libqhull-dev
+  libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
+  libopencv-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  clang-format
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing from apt: ${missing[*]}" >&2
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root or sudo to install packages" >&2; exit 1; }
+    sudo_cmd=(sudo)
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=300 update -q
+  "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=300 install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# shellcheck disable=SC2086 # CAMBIO_CMAKE_ARGS is a list of arguments.
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo ${CAMBIO_CMAKE_ARGS:-} >/dev/null
+cmake --build "$build_dir" -j "$jobs"
+
+case "$mode" in
+  build) ;;
+  run)
+    if [ $# -eq 0 ]; then
+      set -- "$root/firmware_config/experiments/sim_default.yaml" --out "$root/out"
+    fi
+    "$build_dir/bin/cambio" run "$@"
+    ;;
+  test)
+    ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" "$@"
+    ;;
+  *)
+    echo "usage: bash cmake/setup.sh run|test|build [arguments...]" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,122 @@
+#include "cambio/runtime/realtime_executor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <thread>
+
+#include "cambio/hal/monotonic_clock.hpp"
+#include "recording_loop.hpp"
+
+namespace cambio::runtime {
+namespace {
+
+using testing::schedule;
+
+class CountingLoop final : public hal::Loop {
+ public:
+  explicit CountingLoop(std::string name) : name_(std::move(name)) {}
+  const std::string& name() const override { return name_; }
+  void configure() override {
+    if (fail_configure) throw std::runtime_error("cannot open device");
+  }
+  hal::Status update(const hal::LoopTick& tick) noexcept override {
+    last_cycle = tick.cycle;
+    ++updates;
+    return hal::Status::kOk;
+  }
+  void deactivate() noexcept override { deactivated = true; }
+
+  bool fail_configure = false;
+  std::atomic<std::uint64_t> updates{0};
+  std::atomic<std::uint64_t> last_cycle{0};
+  std::atomic<bool> deactivated{false};
+
+ private:
+  std::string name_;
+};
+
+TEST(RealtimeExecutor, RunsEachLoopAtItsRateForTheDuration) {
+  hal::MonotonicClock clock;
+  CountingLoop fast("fast");
+  CountingLoop slow("slow");
+  // catch_up: a late wake-up on a loaded machine runs the missed cycles instead of dropping them.
+  auto fast_schedule = schedule("fast", 500);
+  auto slow_schedule = schedule("slow", 50);
+  fast_schedule.overrun = slow_schedule.overrun = config::OverrunPolicy::kCatchUp;
+  RealtimeExecutor executor(clock, {{&fast, fast_schedule}, {&slow, slow_schedule}}, {});
+  const std::atomic<bool> never{false};
+  executor.run(never, 400'000'000, /*print_warnings=*/false);
+
+  // Deadlines are absolute, so the count is exact whatever the scheduling noise: 0.4 s * rate.
+  EXPECT_EQ(executor.statistics()[0].cycles, 200u);
+  EXPECT_EQ(executor.statistics()[1].cycles, 20u);
+  EXPECT_EQ(fast.updates.load(), 200u);
+  EXPECT_TRUE(fast.deactivated.load());
+  EXPECT_TRUE(slow.deactivated.load());
+  EXPECT_GE(executor.statistics()[0].wakeup_latency.count(), 200u);
+}
+
+std::atomic<bool> g_sigint{false};
+extern "C" void on_sigint(int) { g_sigint.store(true); }
+
+TEST(RealtimeExecutor, StopsCleanlyOnSigint) {
+  struct sigaction action{};
+  struct sigaction previous{};
+  action.sa_handler = on_sigint;
+  sigemptyset(&action.sa_mask);
+  ASSERT_EQ(sigaction(SIGINT, &action, &previous), 0);
+  g_sigint.store(false);
+
+  hal::MonotonicClock clock;
+  CountingLoop loop("joint");
+  RealtimeExecutor executor(clock, {{&loop, schedule("joint", 1000)}}, {});
+  std::thread interrupter([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    std::raise(SIGINT);
+  });
+  const std::int64_t started = clock.now_ns();
+  executor.run(g_sigint, /*duration_ns=*/0, false);  // No duration: only the signal stops it.
+  const std::int64_t elapsed = clock.now_ns() - started;
+  interrupter.join();
+  sigaction(SIGINT, &previous, nullptr);
+
+  EXPECT_TRUE(g_sigint.load());
+  EXPECT_TRUE(loop.deactivated.load());
+  EXPECT_GT(loop.updates.load(), 50u);
+  EXPECT_LT(elapsed, 2'000'000'000) << "the executor did not stop promptly after SIGINT";
+}
+
+TEST(RealtimeExecutor, RethrowsAConfigureFailureAfterStoppingTheOthers) {
+  hal::MonotonicClock clock;
+  CountingLoop good("good");
+  CountingLoop bad("bad");
+  bad.fail_configure = true;
+  RealtimeExecutor executor(clock, {{&good, schedule("good", 100)}, {&bad, schedule("bad", 100)}},
+                            {});
+  const std::atomic<bool> never{false};
+  EXPECT_THROW(executor.run(never, 1'000'000'000, false), std::runtime_error);
+  EXPECT_EQ(good.updates.load(), 0u) << "no loop may start when another failed to configure";
+  EXPECT_TRUE(good.deactivated.load());
+}
+
+TEST(RealtimeExecutor, RefusedPriorityIsAWarningNotAFailure) {
+  hal::MonotonicClock clock;
+  CountingLoop loop("joint");
+  auto rt = schedule("joint", 200, 80);
+  rt.cpu = 0;
+  rt.overrun = config::OverrunPolicy::kCatchUp;
+  RealtimeExecutor executor(clock, {{&loop, rt}}, {});
+  const std::atomic<bool> never{false};
+  const auto warnings = executor.run(never, 50'000'000, false);
+  EXPECT_EQ(executor.statistics()[0].cycles, 10u);
+  // Whether SCHED_FIFO is granted depends on the machine; either way the loop ran, and a
+  // refusal came back as a warning.
+  if (!executor.statistics()[0].realtime_priority_granted) {
+    ASSERT_FALSE(warnings.empty());
+    EXPECT_NE(warnings[0].find("SCHED_FIFO"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace cambio::runtime

@@ -1,0 +1,38 @@
+# The layering rules of DESIGN.md, checked on the include graph:
+#  - control/ and perception/ see the HAL only: nothing from sim/ or drivers/;
+#  - hal/ depends on Eigen and the standard library alone.
+set(violations "")
+
+file(GLOB_RECURSE upper_files ${SOURCE_DIR}/control/*.hpp ${SOURCE_DIR}/control/*.cpp
+     ${SOURCE_DIR}/perception/*.hpp ${SOURCE_DIR}/perception/*.cpp)
+foreach(path IN LISTS upper_files)
+  file(STRINGS ${path} includes REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
+  foreach(line IN LISTS includes)
+    if(line MATCHES "[<\"](cambio/)?(sim|drivers)/" OR line MATCHES "mujoco" OR line MATCHES "linux/can")
+      list(APPEND violations "${path}: ${line}")
+    endif()
+  endforeach()
+endforeach()
+
+file(GLOB_RECURSE hal_files ${SOURCE_DIR}/hal/*.hpp ${SOURCE_DIR}/hal/*.cpp)
+foreach(path IN LISTS hal_files)
+  file(STRINGS ${path} includes REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
+  foreach(line IN LISTS includes)
+    if(line MATCHES "[<\"]cambio/" AND NOT line MATCHES "[<\"]cambio/hal/")
+      list(APPEND violations "${path}: ${line} (the HAL may include only cambio/hal/)")
+    elseif(line MATCHES "[<\"](yaml-cpp|opencv2|mujoco|EGL|GL|visp)")
+      list(APPEND violations "${path}: ${line} (the HAL depends on Eigen alone)")
+    endif()
+  endforeach()
+endforeach()
+
+list(LENGTH upper_files upper_count)
+list(LENGTH hal_files hal_count)
+if(upper_count EQUAL 0 OR hal_count EQUAL 0)
+  message(FATAL_ERROR "layering test found no sources under ${SOURCE_DIR}")
+endif()
+if(violations)
+  list(JOIN violations "\n  " text)
+  message(FATAL_ERROR "layering violations:\n  ${text}")
+endif()
+message(STATUS "layering: ${upper_count} control/perception files and ${hal_count} HAL files clean")

@@ -60,6 +60,10 @@ struct Range {
 ///
 /// Keys carry units: number("max_velocity_rad_s"). angle_rad("min_position") accepts either
 /// "min_position_rad" or "min_position_deg" (converted at load) and refuses both at once.
+///
+/// Locations are 1-based. A wrong value is reported at the value, an unknown or repeated key at
+/// the key, and a missing key at the map that should hold it (a block map's first key, a flow
+/// map's '{'). Quoted scalars are text: "2.0" in quotes is not a number.
 class MapReader {
  public:
   /// `node` must be a map (an issue is recorded otherwise and every read returns fallbacks).
@@ -97,7 +101,8 @@ class MapReader {
   /// An optional sub-map: nullopt when the key is absent.
   std::optional<MapReader> optional_map(std::string_view key);
   /// The entries of a map keyed by name (`joints: {neck_pan: {...}, ...}`), in file order.
-  /// Each value must be a map.
+  /// Each value must be a map. An absent or empty key gives no entries and no issue (the caller
+  /// decides whether the section is required).
   std::vector<std::pair<std::string, MapReader>> named_maps(std::string_view key);
   /// A list of maps (`objects: [{...}, ...]`), each located at its own line.
   std::vector<MapReader> map_list(std::string_view key);

@@ -43,8 +43,10 @@ struct JointConfig {
   /// The link this joint hangs from: "base" or the name of another joint (each joint moves a
   /// link named after it).
   std::string parent = "base";
-  Pose origin;                                ///< Joint frame in the parent link frame at zero.
-  std::array<double, 3> axis{0.0, 0.0, 1.0};  ///< Unit vector in the joint frame.
+  Pose origin;  ///< Joint frame in the parent link frame at zero.
+  /// Unit vector in the joint frame. The loader normalises the file's `axis` (so [0, 0, 2] is
+  /// accepted as [0, 0, 1]) and refuses a zero vector.
+  std::array<double, 3> axis{0.0, 0.0, 1.0};
   double min_position_rad = 0.0;
   double max_position_rad = 0.0;
   double max_velocity_rad_s = 0.0;

@@ -1,0 +1,237 @@
+// `cambio sim-bench [--json] [--width W --height H]`: in one run, the sim's physics steps per
+// second for the full robot, the stereo frames per second of its camera pipeline (render, read
+// back, flip, convert, noise: what Camera::grab does), and, as the reference, a raw MuJoCo
+// render-and-read loop of the same scene at the same resolution on the same GL context.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "argument_parser.hpp"
+#include "cambio/config/rig_loader.hpp"
+#include "cambio/config/scene_config.hpp"
+#include "cambio/sim/sim_backend.hpp"
+#include "command.hpp"
+#include "config_errors.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string resolve_rig(const std::string& argument) {
+  if (std::filesystem::exists(argument)) return argument;
+  std::filesystem::path shipped =
+      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
+  if (shipped.extension() != ".yaml") shipped += ".yaml";
+  return std::filesystem::exists(shipped) ? shipped.string() : argument;
+}
+
+/// Every sim group of the rig, commanded along slow sines inside the joints' limits, so the
+/// physics step works with moving arms and contacts, not a robot at rest.
+struct Exerciser {
+  std::vector<std::unique_ptr<hal::JointGroup>> groups;
+  std::vector<std::vector<hal::JointCommand>> commands;
+
+  void command(double t_s) {
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const auto& info = groups[g]->info();
+      for (std::size_t k = 0; k < info.joints.size(); ++k) {
+        const auto& limits = info.limits[k];
+        const double middle = 0.5 * (limits.min_position_rad + limits.max_position_rad);
+        const double half = 0.3 * (limits.max_position_rad - limits.min_position_rad);
+        commands[g][k] = {hal::CommandMode::kPosition,
+                          middle + half * std::sin(0.7 * t_s + static_cast<double>(k))};
+      }
+      (void)groups[g]->write(commands[g]);
+    }
+  }
+};
+
+}  // namespace
+
+int run_sim_bench_command(std::span<const std::string> args) {
+  ArgumentParser parser("sim-bench", "measure the sim's physics and camera throughput");
+  parser.option("config", "RIG", "rig file or shipped rig name (default: cambio)")
+      .option("scene", "SCENE", "scene for the physics figure (default: table: arms, contacts)")
+      .option("camera-scene", "SCENE", "scene for the camera figures (default: vergence)")
+      .option("width", "W", "eye image width in pixels (default: the rig's)")
+      .option("height", "H", "eye image height in pixels (default: the rig's)")
+      .option("seconds", "S", "wall time per measurement (default 2)")
+      .flag("json", "print one JSON object instead of a table");
+  if (!parser.parse(args)) return kExitOk;
+  const double seconds = parser.number("seconds", 2.0);
+  if (!(seconds > 0.0)) throw UsageError("sim-bench: --seconds must be > 0");
+
+  auto rig_or_none = load_rig_or_report(resolve_rig(parser.value("config", "cambio")), {});
+  if (!rig_or_none) return kExitBadInput;
+  config::RigConfig rig = *rig_or_none;
+  if (!rig.stereo) {
+    std::cerr << "cambio sim-bench: rig " << rig.name << " has no stereo pair to measure\n";
+    return kExitBadInput;
+  }
+  if (parser.has("width") != parser.has("height")) {
+    throw UsageError("sim-bench: give both --width and --height");
+  }
+  if (parser.has("width")) {
+    const long long width = parser.integer("width", 0);
+    const long long height = parser.integer("height", 0);
+    if (width < 16 || height < 16 || width > 8192 || height > 8192) {
+      throw UsageError("sim-bench: --width and --height must be in [16, 8192]");
+    }
+    // Same field of view at the new size; centred principal point.
+    for (auto& camera : rig.cameras) {
+      const double scale = static_cast<double>(width) / camera.width_px;
+      camera.focal_x_px *= scale;
+      camera.focal_y_px = camera.focal_x_px;
+      camera.width_px = static_cast<int>(width);
+      camera.height_px = static_cast<int>(height);
+      camera.principal_x_px = (camera.width_px - 1) / 2.0;
+      camera.principal_y_px = (camera.height_px - 1) / 2.0;
+    }
+  }
+  config::SceneConfig physics_scene, camera_scene;
+  try {
+    physics_scene = config::load_scene(config::resolve_scene_path(parser.value("scene", "table")));
+    camera_scene =
+        config::load_scene(config::resolve_scene_path(parser.value("camera-scene", "vergence")));
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
+
+  // Physics: the full robot, every sim group commanded, contacts with the table's objects.
+  double physics_steps_per_s = 0.0;
+  double mean_contacts = 0.0;
+  int nq = 0, nv = 0;
+  {
+    sim::SimBackend backend(rig, physics_scene, hal::BackendOptions{});
+    Exerciser exerciser;
+    for (const auto& group : rig.groups) {
+      if (group.backend != "sim") continue;
+      exerciser.groups.push_back(backend.make_joint_group(group.name));
+      exerciser.commands.emplace_back(group.joints.size());
+    }
+    auto& physics = backend.physics();
+    physics.activate();
+    const double dt = backend.world().timestep_s();
+    std::uint64_t steps = 0;
+    std::uint64_t contacts = 0;
+    const auto start = Clock::now();
+    double elapsed = 0.0;
+    while (elapsed < seconds) {
+      for (int k = 0; k < 100; ++k) {
+        // The joint loop writes at the physics rate, as under the executor.
+        exerciser.command(static_cast<double>(steps) * dt);
+        if (physics.step_once(static_cast<std::int64_t>(steps) * 1'000'000) != hal::Status::kOk) {
+          std::cerr << "cambio sim-bench: the physics step faulted\n";
+          return kExitFailure;
+        }
+        contacts += static_cast<std::uint64_t>(backend.world().data()->ncon);
+        ++steps;
+      }
+      elapsed = seconds_since(start);
+    }
+    physics_steps_per_s = static_cast<double>(steps) / elapsed;
+    mean_contacts = static_cast<double>(contacts) / static_cast<double>(steps);
+    nq = backend.world().model()->nq;
+    nv = backend.world().model()->nv;
+  }
+
+  // Cameras: the pipeline (HAL grab of both eyes, a physics step between pairs so every pair is
+  // a new frame) against the raw MuJoCo loop, alternated in rounds so that both see the same
+  // machine load.
+  sim::SimBackend backend(rig, camera_scene, hal::BackendOptions{});
+  backend.physics().activate();
+  auto left = backend.make_camera(rig.stereo->left_camera);
+  auto right = backend.make_camera(rig.stereo->right_camera);
+  const auto& intrinsics = left->info().intrinsics;
+  hal::Image left_image(intrinsics.width_px, intrinsics.height_px, left->info().format);
+  hal::Image right_image(intrinsics.width_px, intrinsics.height_px, right->info().format);
+  sim::Renderer& renderer = backend.renderer();
+  const int left_id = backend.world().camera_id(rig.stereo->left_camera);
+  const int right_id = backend.world().camera_id(rig.stereo->right_camera);
+  std::vector<std::uint8_t> raw(static_cast<std::size_t>(intrinsics.width_px) *
+                                intrinsics.height_px * 3);
+  std::int64_t stamp_ns = 0;
+
+  auto pipeline_round = [&](double budget_s) {
+    int pairs = 0;
+    const auto start = Clock::now();
+    double physics_s = 0.0;
+    while (seconds_since(start) < budget_s) {
+      const auto physics_start = Clock::now();
+      stamp_ns += 1'000'000;
+      (void)backend.physics().step_once(stamp_ns);
+      physics_s += seconds_since(physics_start);
+      if (left->grab(left_image) != hal::Status::kOk ||
+          right->grab(right_image) != hal::Status::kOk) {
+        throw std::runtime_error("a camera grab failed during the benchmark");
+      }
+      ++pairs;
+    }
+    return std::pair<int, double>{pairs, seconds_since(start) - physics_s};
+  };
+  auto raw_round = [&](double budget_s) {
+    int pairs = 0;
+    const auto start = Clock::now();
+    std::lock_guard<std::mutex> lock(renderer.mutex());
+    while (seconds_since(start) < budget_s) {
+      renderer.render_raw_reference(left_id, intrinsics.width_px, intrinsics.height_px, raw.data());
+      renderer.render_raw_reference(right_id, intrinsics.width_px, intrinsics.height_px,
+                                    raw.data());
+      ++pairs;
+    }
+    return std::pair<int, double>{pairs, seconds_since(start)};
+  };
+  (void)pipeline_round(0.2);  // Warm-up: JIT-compiled llvmpipe shaders, caches.
+  (void)raw_round(0.2);
+  constexpr int kRounds = 4;
+  int pipeline_pairs = 0, raw_pairs = 0;
+  double pipeline_s = 0.0, raw_s = 0.0;
+  for (int round = 0; round < kRounds; ++round) {
+    const auto [p, ps] = pipeline_round(seconds / kRounds);
+    const auto [r, rs] = raw_round(seconds / kRounds);
+    pipeline_pairs += p;
+    pipeline_s += ps;
+    raw_pairs += r;
+    raw_s += rs;
+  }
+  const double camera_fps = pipeline_pairs / pipeline_s;
+  const double raw_fps = raw_pairs / raw_s;
+  const std::string gl = renderer.gl_renderer_name();
+
+  if (parser.flag_set("json")) {
+    std::printf(
+        "{\"physics_steps_per_s\": %.0f, \"physics_scene\": \"%s\", \"nq\": %d, \"nv\": %d, "
+        "\"mean_contacts\": %.2f, \"width\": %d, \"height\": %d, \"camera_stereo_fps\": %.1f, "
+        "\"raw_mujoco_stereo_fps\": %.1f, \"camera_vs_raw\": %.3f, \"camera_scene\": \"%s\", "
+        "\"format\": \"%s\", \"gl_renderer\": \"%s\"}\n",
+        physics_steps_per_s, physics_scene.name.c_str(), nq, nv, mean_contacts, intrinsics.width_px,
+        intrinsics.height_px, camera_fps, raw_fps, camera_fps / raw_fps, camera_scene.name.c_str(),
+        left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8", gl.c_str());
+  } else {
+    std::printf("sim-bench (%s)\n", gl.c_str());
+    std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",
+                physics_steps_per_s, rig.name.c_str(), physics_scene.name.c_str(), nv,
+                mean_contacts);
+    std::printf("  camera pipeline   %10.1f stereo frames/s at %dx%d\n", camera_fps,
+                intrinsics.width_px, intrinsics.height_px);
+    std::printf("  raw MuJoCo        %10.1f stereo frames/s (render + read back)\n", raw_fps);
+    std::printf("  pipeline / raw    %10.1f %%\n", 100.0 * camera_fps / raw_fps);
+  }
+  return kExitOk;
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,69 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "cambio/hal/image.hpp"
+#include "cambio/hal/triple_buffer.hpp"
+#include "cambio/sim/renderer.hpp"
+#include "cambio/sim/world.hpp"
+#include "cambio/sim/world_snapshot.hpp"
+
+namespace cambio::sim {
+
+/// The world's true state, for tests and evaluation only: control and perception never see it
+/// (it is not part of the HAL). Reads the newest snapshot the physics loop published. Not
+/// real-time safe; thread-safe against the loops (each call takes the snapshot it reads).
+class GroundTruth {
+ public:
+  GroundTruth(const World& world, hal::TripleBuffer<WorldSnapshot>& truth_snapshots);
+  ~GroundTruth();
+
+  /// Takes the newest published snapshot (every query below calls it).
+  void refresh();
+  std::int64_t stamp_ns();
+  std::uint64_t step();
+  /// True angle of a rig joint (rad). Throws std::out_of_range for an unknown joint.
+  double joint_position_rad(const std::string& joint_name);
+  /// Pose of a camera's optical frame (OpenCV: z forward, x right, y down) in the world.
+  Eigen::Isometry3d X_WC(const std::string& camera_name);
+  /// Pose of a scene object's frame in the world.
+  Eigen::Isometry3d X_WO(const std::string& object_name);
+  /// Pose of a link (a joint's moving body, or "base") in the world.
+  Eigen::Isometry3d X_WL(const std::string& link_name);
+
+  /// Renders a view of the newest state: a rig camera at its intrinsics (width, height 0) or
+  /// any MuJoCo camera (the overview) at the given size. Writes top-row-first RGB into `rgb`
+  /// (resized if needed) and, if `depth_m` is given, metric depth along the optical axis.
+  /// Needs the renderer (set_renderer()).
+  void render(const std::string& camera_name, int width_px, int height_px, const ViewOptions& view,
+              hal::Image& rgb, std::vector<float>* depth_m);
+
+  /// Where render() gets the renderer (built on first use, so physics-only users need no GL)
+  /// and the snapshots it renders from.
+  void set_renderer_provider(std::function<Renderer&()> provider,
+                             hal::TripleBuffer<WorldSnapshot>* render_snapshots) {
+    renderer_provider_ = std::move(provider);
+    render_snapshots_ = render_snapshots;
+  }
+
+ private:
+  const World& world_;
+  hal::TripleBuffer<WorldSnapshot>& snapshots_;
+  std::mutex mutex_;
+  mjData_* data_ = nullptr;
+  std::uint64_t step_ = 0;
+  std::int64_t stamp_ns_ = 0;
+  std::function<Renderer&()> renderer_provider_;
+  hal::TripleBuffer<WorldSnapshot>* render_snapshots_ = nullptr;
+  std::vector<std::uint8_t> rgb_bottom_up_;
+  std::vector<float> depth_bottom_up_;
+};
+
+}  // namespace cambio::sim

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "cambio/sim/egl_context.hpp"
+#include "cambio/sim/world.hpp"
+#include "cambio/sim/world_snapshot.hpp"
+
+struct mjvScene_;
+struct mjvOption_;
+struct mjrContext_;
+
+namespace cambio::sim {
+
+/// What a view draws. The eyes' defaults follow DESIGN.md: no shadows, no reflections (MSAA is
+/// off in the model), the head that carries them hidden.
+struct ViewOptions {
+  bool shadows = false;
+  bool reflections = false;
+  bool show_head = false;  ///< Draw geom group 3 (the camera-carrying head); third-person only.
+  bool skybox = true;
+};
+
+/// MuJoCo's OpenGL renderer on a headless EGL context, with its own copy of the world state
+/// (a private mjData filled from WorldSnapshot), so it never reads the physics loop's data.
+/// One per world, shared by that world's cameras and ground truth: hold lock() around
+/// set_state() and render() (one GL context serves one thread at a time).
+class Renderer {
+ public:
+  /// Allocates everything (GL context, framebuffers, textures, scene). Throws
+  /// std::runtime_error or MujocoError.
+  explicit Renderer(const World& world);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  std::mutex& mutex() { return mutex_; }
+
+  /// Copies `snapshot` into the render state and runs kinematics. Caller holds mutex().
+  /// Real-time safe.
+  void set_state(const WorldSnapshot& snapshot) noexcept;
+  /// Step count of the snapshot last set (so cameras can tell whether they saw it).
+  std::uint64_t state_step() const { return state_step_; }
+  std::int64_t state_stamp_ns() const { return state_stamp_ns_; }
+
+  /// Renders MuJoCo camera `camera_id` at width x height into the offscreen buffer and reads
+  /// it back: `rgb` (3 bytes per pixel) and/or `depth` (metres along the optical axis), both
+  /// bottom row first as OpenGL gives them; either may be null. Caller holds mutex(). Returns
+  /// false if MuJoCo reported an error. Real-time safe (no allocation); takes milliseconds.
+  bool render(int camera_id, int width_px, int height_px, const ViewOptions& view,
+              std::uint8_t* rgb, float* depth) noexcept;
+
+  /// The raw steps MuJoCo takes for one view (scene update, render, read back RGB), with the
+  /// eye defaults: the reference `cambio sim-bench` compares the camera pipeline with.
+  void render_raw_reference(int camera_id, int width_px, int height_px, std::uint8_t* rgb);
+
+  const World& world() const { return world_; }
+  /// The render-side state (after set_state): poses of bodies, cameras (xpos, xmat).
+  const mjData_* state() const { return data_; }
+  std::string gl_renderer_name() { return egl_.renderer_name(); }
+  double near_m() const { return near_m_; }
+  double far_m() const { return far_m_; }
+
+ private:
+  void apply_view(const ViewOptions& view);
+
+  const World& world_;
+  EglContext egl_;
+  std::mutex mutex_;
+  mjData_* data_ = nullptr;
+  std::unique_ptr<mjvScene_> scene_;
+  std::unique_ptr<mjvOption_> option_;
+  std::unique_ptr<mjrContext_> context_;
+  std::uint64_t state_step_ = 0;
+  std::int64_t state_stamp_ns_ = 0;
+  double near_m_ = 0.0;
+  double far_m_ = 0.0;
+};
+
+}  // namespace cambio::sim

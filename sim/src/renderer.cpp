@@ -1,0 +1,115 @@
+#include "cambio/sim/renderer.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include "cambio/sim/mujoco_error.hpp"
+
+namespace cambio::sim {
+
+Renderer::Renderer(const World& world)
+    : world_(world),
+      scene_(std::make_unique<mjvScene>()),
+      option_(std::make_unique<mjvOption>()),
+      context_(std::make_unique<mjrContext>()) {
+  install_mujoco_handlers();
+  const mjModel* model = world_.model();
+  data_ = mj_makeData(model);
+  if (data_ == nullptr) throw MujocoError("MuJoCo: could not allocate the renderer's mjData");
+  mj_copyData(data_, model, world_.data());
+  mj_kinematics(model, data_);
+  mj_camlight(model, data_);
+  mjv_defaultOption(option_.get());
+  mjv_defaultScene(scene_.get());
+  mjr_defaultContext(context_.get());
+  try {
+    egl_.make_current();
+    mjv_makeScene(model, scene_.get(), model->ngeom + 64);
+    // Textures (filled procedurally by World) are uploaded here.
+    mjr_makeContext(model, context_.get(), mjFONTSCALE_100);
+    mjr_setBuffer(mjFB_OFFSCREEN, context_.get());
+    if (context_->currentBuffer != mjFB_OFFSCREEN) {
+      throw MujocoError("MuJoCo: the offscreen framebuffer is not available on this GL context");
+    }
+  } catch (...) {
+    mjr_freeContext(context_.get());
+    mjv_freeScene(scene_.get());
+    mj_deleteData(data_);
+    throw;
+  }
+  near_m_ = model->vis.map.znear * model->stat.extent;
+  far_m_ = model->vis.map.zfar * model->stat.extent;
+}
+
+Renderer::~Renderer() {
+  egl_.make_current();
+  mjr_freeContext(context_.get());
+  mjv_freeScene(scene_.get());
+  mj_deleteData(data_);
+}
+
+void Renderer::set_state(const WorldSnapshot& snapshot) noexcept {
+  const mjModel* model = world_.model();
+  snapshot.restore(model, data_);
+  mj_kinematics(model, data_);
+  mj_camlight(model, data_);
+  state_step_ = snapshot.step;
+  state_stamp_ns_ = snapshot.stamp_ns;
+}
+
+void Renderer::apply_view(const ViewOptions& view) {
+  for (int group = 0; group < mjNGROUP; ++group) {
+    option_->geomgroup[group] = group <= 2 ? 1 : 0;
+    option_->sitegroup[group] = 0;  // Sites are markers for the sim, never seen.
+  }
+  option_->geomgroup[kHiddenFromEyesGeomGroup] = view.show_head ? 1 : 0;
+  scene_->flags[mjRND_SHADOW] = view.shadows ? 1 : 0;
+  scene_->flags[mjRND_REFLECTION] = view.reflections ? 1 : 0;
+  scene_->flags[mjRND_SKYBOX] = view.skybox ? 1 : 0;
+}
+
+bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOptions& view,
+                      std::uint8_t* rgb, float* depth) noexcept {
+  try {
+    egl_.make_current();
+    const mjModel* model = world_.model();
+    mjvCamera camera;
+    mjv_defaultCamera(&camera);
+    camera.type = mjCAMERA_FIXED;
+    camera.fixedcamid = camera_id;
+    apply_view(view);
+    mjv_updateScene(model, data_, option_.get(), nullptr, &camera, mjCAT_ALL, scene_.get());
+    const mjrRect viewport{0, 0, width_px, height_px};
+    mjr_render(viewport, scene_.get(), context_.get());
+    mjr_readPixels(rgb, depth, viewport, context_.get());
+    if (depth != nullptr) {
+      // OpenGL depth d in [0, 1] of a perspective projection with planes n and f; the metric
+      // depth along the optical axis is z = n f / (f - d (f - n)).
+      const double n = near_m_;
+      const double f = far_m_;
+      const std::size_t count =
+          static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px);
+      for (std::size_t i = 0; i < count; ++i) {
+        depth[i] = static_cast<float>(n * f / (f - static_cast<double>(depth[i]) * (f - n)));
+      }
+    }
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+void Renderer::render_raw_reference(int camera_id, int width_px, int height_px, std::uint8_t* rgb) {
+  egl_.make_current();
+  const mjModel* model = world_.model();
+  mjvCamera camera;
+  mjv_defaultCamera(&camera);
+  camera.type = mjCAMERA_FIXED;
+  camera.fixedcamid = camera_id;
+  apply_view(ViewOptions{});
+  mjv_updateScene(model, data_, option_.get(), nullptr, &camera, mjCAT_ALL, scene_.get());
+  const mjrRect viewport{0, 0, width_px, height_px};
+  mjr_render(viewport, scene_.get(), context_.get());
+  mjr_readPixels(rgb, nullptr, viewport, context_.get());
+}
+
+}  // namespace cambio::sim

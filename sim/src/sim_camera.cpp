@@ -1,0 +1,67 @@
+#include "sim_camera.hpp"
+
+#include <cstring>
+
+namespace cambio::sim {
+
+SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer,
+                     hal::TripleBuffer<WorldSnapshot>& snapshots, double noise_std,
+                     std::uint64_t seed)
+    : info_(std::move(info)),
+      camera_id_(camera_id),
+      renderer_(renderer),
+      snapshots_(snapshots),
+      noise_(noise_std, seed),
+      rgb_(static_cast<std::size_t>(info_.intrinsics.width_px) *
+           static_cast<std::size_t>(info_.intrinsics.height_px) * 3) {}
+
+void SimCamera::convert_rows(const std::uint8_t* rgb_bottom_up, int width, int height,
+                             hal::PixelFormat format, hal::Image& out) noexcept {
+  const std::size_t row_bytes = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y) {
+    const std::uint8_t* source =
+        rgb_bottom_up + static_cast<std::size_t>(height - 1 - y) * row_bytes;
+    std::uint8_t* target = out.row(y);
+    if (format == hal::PixelFormat::kRgb8) {
+      std::memcpy(target, source, row_bytes);
+    } else {
+      for (int x = 0; x < width; ++x) {
+        const std::uint32_t r = source[3 * x], g = source[3 * x + 1], b = source[3 * x + 2];
+        target[x] = static_cast<std::uint8_t>((77 * r + 150 * g + 29 * b + 128) >> 8);
+      }
+    }
+  }
+}
+
+hal::Status SimCamera::grab(hal::Image& out) {
+  const auto& intrinsics = info_.intrinsics;
+  if (out.width_px != intrinsics.width_px || out.height_px != intrinsics.height_px ||
+      out.format != info_.format ||
+      out.pixels.size() != rgb_.size() / 3 * static_cast<std::size_t>(out.channels())) {
+    return hal::Status::kRejected;
+  }
+  std::int64_t stamp_ns = 0;
+  {
+    std::lock_guard<std::mutex> lock(renderer_.mutex());
+    // Move the renderer on only once this camera has seen its current state, so both eyes of a
+    // cycle render the same instant.
+    if (!rendered_once_ || rendered_step_ == renderer_.state_step()) {
+      if (snapshots_.acquire()) renderer_.set_state(snapshots_.front());
+    }
+    if (rendered_once_ && rendered_step_ == renderer_.state_step()) return hal::Status::kNoNewData;
+    if (!renderer_.render(camera_id_, intrinsics.width_px, intrinsics.height_px, ViewOptions{},
+                          rgb_.data(), nullptr)) {
+      return hal::Status::kFault;
+    }
+    rendered_step_ = renderer_.state_step();
+    rendered_once_ = true;
+    stamp_ns = renderer_.state_stamp_ns();
+  }
+  convert_rows(rgb_.data(), intrinsics.width_px, intrinsics.height_px, info_.format, out);
+  noise_.apply(out.pixels);
+  out.stamp_ns = stamp_ns;
+  out.sequence = ++sequence_;
+  return hal::Status::kOk;
+}
+
+}  // namespace cambio::sim

@@ -1,0 +1,26 @@
+#pragma once
+
+#include <string>
+
+#include "cambio/hal/touch_sensor.hpp"
+#include "cambio/sim/physics_loop.hpp"
+
+namespace cambio::sim {
+
+/// A hand's touch sensor: MuJoCo's broad phase (bounding volumes, the paper's "bubble") and
+/// narrow phase (exact geometry) find the contacts; the physics loop sums those on the end
+/// effector each step. read() is real-time safe.
+class SimTouchSensor final : public hal::TouchSensor {
+ public:
+  explicit SimTouchSensor(TouchLink& link) : link_(link) {}
+  const std::string& name() const override { return link_.name; }
+  hal::Status read(hal::TouchReading& out) override {
+    link_.reading.read(out);
+    return hal::Status::kOk;
+  }
+
+ private:
+  TouchLink& link_;
+};
+
+}  // namespace cambio::sim

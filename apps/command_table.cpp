@@ -8,12 +8,16 @@ namespace cambio::app {
 int run_check_config_command(std::span<const std::string> args);
 int run_loop_bench_command(std::span<const std::string> args);
 int run_run_command(std::span<const std::string> args);
+int run_render_command(std::span<const std::string> args);
+int run_sim_bench_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
       Command{"run", "run an experiment (the main job)", &run_run_command},
       Command{"check-config", "validate a rig file and print its summary", &run_check_config_command},
       Command{"loop-bench", "measure loop wake-up latency on this machine", &run_loop_bench_command},
+      Command{"render", "render the eyes, depth and an overview of the sim at a pose", &run_render_command},
+      Command{"sim-bench", "measure sim physics steps/s and stereo camera frames/s", &run_sim_bench_command},
   };
   return kCommands;
 }

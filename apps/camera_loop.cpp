@@ -11,6 +11,12 @@ void CameraLoop::configure() {
     channels_.push_back(std::make_unique<hal::TripleBuffer<hal::Image>>(
         hal::Image(info.intrinsics.width_px, info.intrinsics.height_px, info.format)));
   }
+  // Warm-up grab, not published: a backend's first frame builds contexts, compiles shaders or
+  // maps buffers (heap work that must not land in the first update()).
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    hal::Image scratch = channels_[i]->back();
+    (void)cameras_[i]->grab(scratch);
+  }
 }
 
 hal::Status CameraLoop::update(const hal::LoopTick&) noexcept {

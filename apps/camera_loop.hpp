@@ -17,6 +17,8 @@ class CameraLoop final : public hal::Loop {
   explicit CameraLoop(std::vector<hal::Camera*> cameras);
 
   const std::string& name() const override { return name_; }
+  /// Allocates the channels and grabs one frame from each camera (discarded) so the backend's
+  /// first-frame setup happens here, not in update().
   void configure() override;
   hal::Status update(const hal::LoopTick& tick) noexcept override;
 

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "cambio/perception/convolution.hpp"
+#include "cambio/perception/perception_config.hpp"
+#include "cambio/perception/retina.hpp"
+
+namespace cambio::perception {
+
+struct LevelMotion {
+  bool valid = false;
+  float flow_x_px = 0.0f;  ///< Image motion between the two frames, level-0 px per frame.
+  float flow_y_px = 0.0f;
+  float min_eigenvalue = 0.0f;  ///< Of the per-pixel structure tensor (grey^2 / level px^2).
+  float residual_rms = 0.0f;    ///< Grey levels after the last warp.
+  int iterations = 0;
+};
+
+/// Motion of one eye between its previous and current retina (paper Section 3: "motion features
+/// are also computed from two consecutive MR image frames").
+struct MotionResult {
+  bool valid = false;
+  bool fixation_changed = false;  ///< The retina moved in the image: no temporal derivative.
+  float flow_x_px = 0.0f;         ///< From the finest valid level, level-0 px per frame.
+  float flow_y_px = 0.0f;
+  int level = -1;
+  std::array<LevelMotion, Retina::kMaxLevels> per_level{};
+};
+
+/// Per level: the temporal derivative of the Gaussian-smoothed level (current minus previous)
+/// and a translation by iterative Lucas-Kanade, coarse to fine. Smoothing and gradients use the
+/// paper's kernels: S = g_x^(0) g_y^(0) * I (Eq. 3 both ways, a normalised 2-D Gaussian) and
+/// grad S = lambda (G_x^(1), G_y^(1)) (Eq. 4; lambda restores the normalisation of the factor
+/// across d). Keeps the previous frame's maps; not thread-safe.
+class MotionEstimator {
+ public:
+  MotionEstimator(const MotionConfig& config, double half_width_sigmas, int levels, int width,
+                  int height);
+
+  int apron_px() const { return half_width_; }
+  /// Forgets the previous frame (the next estimate is invalid).
+  void reset() noexcept { have_previous_ = false; }
+
+  /// Consumes the current retina. `temporal` (levels x width x height floats, or null) receives
+  /// S_now - S_previous per level. Real-time safe.
+  void estimate(const Retina& retina, MotionResult& out, float* temporal) noexcept;
+
+ private:
+  struct Frame {
+    std::vector<float> smooth;  ///< Per level, width x height.
+    std::vector<float> grad_x;
+    std::vector<float> grad_y;
+    std::array<int, Retina::kMaxLevels> scale{};
+    PixelPoint fixation;
+  };
+  void filter(const Retina& retina, Frame& frame) noexcept;
+  bool track_level(const Frame& now, const Frame& before, int k, float& ux, float& uy,
+                   LevelMotion& result) const noexcept;
+
+  MotionConfig config_;
+  int levels_ = 0;
+  int width_ = 0;
+  int height_ = 0;
+  int half_width_ = 0;
+  Taps smooth_taps_;
+  Taps derivative_taps_;
+  std::array<Frame, 2> frames_;
+  int current_ = 0;
+  bool have_previous_ = false;
+  std::vector<float> rows_smooth_;  ///< Row-pass scratch, width x (height + 2 half_width).
+  std::vector<float> rows_derivative_;
+};
+
+}  // namespace cambio::perception

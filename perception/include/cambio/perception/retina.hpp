@@ -1,0 +1,106 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cambio/hal/image.hpp"
+#include "cambio/hal/status.hpp"
+#include "cambio/perception/perception_config.hpp"
+
+namespace cambio::perception {
+
+/// A pixel of the source image (x right, y down, 0-based).
+struct PixelPoint {
+  int x = 0;
+  int y = 0;
+};
+
+/// One level of a retina: width x height samples, each the mean of a scale x scale block of the
+/// source image, plus `apron` samples of real data on every side so that kernels up to that
+/// half-width see no artificial border. Values are grey levels in [0, 255].
+struct RetinaLevelView {
+  const float* interior = nullptr;  ///< Sample (0, 0); rows `stride` floats apart.
+  int stride = 0;
+  int width = 0;
+  int height = 0;
+  int apron = 0;  ///< interior[-apron * stride - apron] is valid.
+  int scale_px = 1;
+  /// Source coordinates of the left/top edge of block (0, 0) of the interior.
+  int origin_x_px = 0;
+  int origin_y_px = 0;
+  /// Fraction of the level's source footprint (interior and apron) inside the image; below 1
+  /// the border policy (replicate the nearest edge pixel) supplied the rest.
+  float fraction_inside = 1.0f;
+
+  float at(int x, int y) const { return interior[y * stride + x]; }
+  /// Source pixel-centre coordinate of level coordinate `level_x` (both continuous).
+  double to_source_x(double level_x) const {
+    return origin_x_px + (level_x + 0.5) * scale_px - 0.5;
+  }
+  double to_source_y(double level_y) const {
+    return origin_y_px + (level_y + 0.5) * scale_px - 0.5;
+  }
+  double to_level_x(double source_x) const {
+    return (source_x - origin_x_px + 0.5) / scale_px - 0.5;
+  }
+  double to_level_y(double source_y) const {
+    return (source_y - origin_y_px + 0.5) / scale_px - 0.5;
+  }
+};
+
+/// The multi-resolution ("retina") image of paper Section 3 for one eye.
+///
+/// Level k (block size b = 2^k, or wider for a coarsest level covering the field) spans source
+/// columns [fx - (width/2) b, fx + (width - width/2) b) around the fixation pixel (fx, fy), so the
+/// sample at (width/2, height/2) of level 0 is the fixation pixel and every level shares that
+/// corner point. Border policy: samples whose blocks reach outside the image use the nearest
+/// edge pixel (replicate), and each level reports the fraction of real data it holds.
+///
+/// Levels are built straight from the source (block sums, no full-resolution intermediate).
+class Retina {
+ public:
+  /// Allocates every level. `apron_px` is the largest kernel half-width that will be applied;
+  /// the image size bounds the block size of a coarsest level that covers the field.
+  /// Throws std::invalid_argument on a non-positive size or more than kMaxLevels levels.
+  Retina(const RetinaConfig& config, int apron_px, int image_width_px, int image_height_px);
+
+  static constexpr int kMaxLevels = 8;
+
+  /// Builds all levels from a grey8 or rgb8 image (rgb converted with Rec. 601 luma weights).
+  /// Real-time safe: no allocation. kRejected for an empty image.
+  hal::Status build(const hal::Image& image, PixelPoint fixation) noexcept;
+
+  int levels() const { return static_cast<int>(levels_.size()); }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int apron() const { return apron_; }
+  PixelPoint fixation() const { return fixation_; }
+  RetinaLevelView level(int k) const;
+
+  /// The block size of level k for an image of the given size (depends on the fixation only
+  /// when the coarsest level covers the field; capped at what the constructor provisioned).
+  int scale_of(int k, int image_width, int image_height, PixelPoint fixation) const;
+
+ private:
+  struct Level {
+    std::vector<float> samples;  ///< (width + 2 apron) x (height + 2 apron).
+    int scale_px = 1;
+    int origin_x_px = 0;
+    int origin_y_px = 0;
+    float fraction_inside = 1.0f;
+  };
+  void build_level(const hal::Image& image, Level& level) noexcept;
+
+  RetinaConfig config_;
+  int width_ = 0;
+  int height_ = 0;
+  int apron_ = 0;
+  int max_scale_ = 1;
+  PixelPoint fixation_;
+  std::vector<Level> levels_;
+  std::vector<std::uint32_t> column_sums_;  ///< Per source column, summed over a block's rows.
+  std::vector<std::int32_t> column_index_;  ///< Clamped source columns (scratch, border case).
+  std::vector<std::uint8_t> luma_row_;      ///< One rgb8 row converted to grey (scratch).
+};
+
+}  // namespace cambio::perception

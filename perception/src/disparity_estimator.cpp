@@ -1,0 +1,156 @@
+#include "cambio/perception/disparity_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace cambio::perception {
+
+DisparityEstimator::DisparityEstimator(const DisparityConfig& config, const OperatorBank& bank,
+                                       int width, int height)
+    : config_(config), width_(width), height_(height) {
+  for (const auto& name : config.features) {
+    const int index = bank.find(name);
+    if (index < 0) throw std::invalid_argument("disparity feature '" + name + "' is not a map");
+    features_.push_back(index);
+    required_ |= MapMask{1} << index;
+  }
+  if (features_.empty()) throw std::invalid_argument("disparity needs at least one feature map");
+  half_ = config.window_half_px > 0 ? config.window_half_px : std::max(1, width / 4);
+  half_y_ = std::min(half_, (height - 1) / 2);
+  if (2 * half_ + 1 > width) {
+    throw std::invalid_argument("disparity window is wider than the retina");
+  }
+  scores_.assign(static_cast<std::size_t>(2 * width + 1), 0.0f);
+}
+
+float DisparityEstimator::left_texture(const FeatureMaps& left, int level) const noexcept {
+  const int cx = width_ / 2;
+  const int cy = height_ / 2;
+  const int n = (2 * half_ + 1) * (2 * half_y_ + 1);
+  double variance = 0.0;
+  for (const int f : features_) {
+    const float* map = left.map(level, f);
+    double sum = 0.0;
+    double sum_sq = 0.0;
+    for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
+      for (int x = cx - half_; x <= cx + half_; ++x) {
+        const double v = map[y * width_ + x];
+        sum += v;
+        sum_sq += v * v;
+      }
+    }
+    const double mean = sum / n;
+    variance += std::max(0.0, sum_sq / n - mean * mean);
+  }
+  return static_cast<float>(std::sqrt(variance / static_cast<double>(features_.size())));
+}
+
+float DisparityEstimator::score(const FeatureMaps& left, const FeatureMaps& right, int level,
+                                int shift) const noexcept {
+  const int cx = width_ / 2;
+  const int cy = height_ / 2;
+  const int w = 2 * half_ + 1;
+  const int n = w * (2 * half_y_ + 1);
+  double cross = 0.0;
+  double left_energy = 0.0;
+  double right_energy = 0.0;
+  for (const int f : features_) {
+    const float* l = left.map(level, f);
+    const float* r = right.map(level, f);
+    float sl = 0.0f, sr = 0.0f, sll = 0.0f, srr = 0.0f, slr = 0.0f;
+    for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
+      const float* lr = l + y * width_ + cx - half_;
+      const float* rr = r + y * width_ + cx - half_ - shift;  // x_right = x_left - d
+      for (int x = 0; x < w; ++x) {
+        sl += lr[x];
+        sr += rr[x];
+        sll += lr[x] * lr[x];
+        srr += rr[x] * rr[x];
+        slr += lr[x] * rr[x];
+      }
+    }
+    cross += static_cast<double>(slr) - static_cast<double>(sl) * sr / n;
+    left_energy += static_cast<double>(sll) - static_cast<double>(sl) * sl / n;
+    right_energy += static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
+  }
+  const double denominator = std::sqrt(std::max(left_energy, 0.0) * std::max(right_energy, 0.0));
+  return denominator > 0.0 ? static_cast<float>(cross / denominator) : 0.0f;
+}
+
+void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& right,
+                                  const Retina& left_retina, const Retina& right_retina,
+                                  DisparityResult& out) const noexcept {
+  out = DisparityResult{};
+  out.levels = left_retina.levels();
+  const int cx = width_ / 2;
+  // Shifts d keep the right window inside the map: right columns cx - h - d .. cx + h - d.
+  const int shift_min = cx + half_ - (width_ - 1);
+  const int shift_max = cx - half_;
+  bool have_estimate = false;
+  double estimate_px = 0.0;
+  for (int k = left_retina.levels() - 1; k >= 0; --k) {
+    LevelDisparity& level = out.per_level[static_cast<std::size_t>(k)];
+    const int scale = left_retina.level(k).scale_px;
+    level.scale_px = scale;
+    if (right_retina.level(k).scale_px != scale) continue;  // Field-covering levels that differ.
+    int lo = 0;
+    int hi = 0;
+    if (!have_estimate) {
+      const int range = static_cast<int>(std::ceil(config_.search_range_px / scale));
+      lo = std::max(shift_min, -range);
+      hi = std::min(shift_max, range);
+    } else {
+      const int centre = static_cast<int>(std::lround(estimate_px / scale));
+      lo = std::max(shift_min, centre - config_.refine_range_px);
+      hi = std::min(shift_max, centre + config_.refine_range_px);
+    }
+    // The coarser estimate does not fit this level's overlap of the two retinas: keep it.
+    if (lo > hi) break;
+    level.searched = true;
+    level.search_min_px = lo;
+    level.search_max_px = hi;
+    level.texture_rms = left_texture(left, k);
+    if (level.texture_rms < config_.min_texture_rms) continue;
+
+    int best = lo;
+    for (int d = lo; d <= hi; ++d) {
+      scores_[static_cast<std::size_t>(d + width_)] = score(left, right, k, d);
+      if (scores_[static_cast<std::size_t>(d + width_)] >
+          scores_[static_cast<std::size_t>(best + width_)])
+        best = d;
+    }
+    const auto at = [this](int d) { return scores_[static_cast<std::size_t>(d + width_)]; };
+    const float peak = at(best);
+    float second = -1.0f;
+    for (int d = lo; d <= hi; ++d) {
+      if (std::abs(d - best) > 1) second = std::max(second, at(d));
+    }
+    double offset = 0.0;
+    level.at_range_edge = best == lo || best == hi;
+    if (!level.at_range_edge) {
+      // Parabola through (best-1, best, best+1); its vertex is the sub-pixel peak.
+      const double minus = at(best - 1);
+      const double plus = at(best + 1);
+      const double curvature = minus - 2.0 * peak + plus;
+      if (curvature < 0.0) offset = std::clamp(0.5 * (minus - plus) / curvature, -0.5, 0.5);
+    }
+    const double ratio = level.texture_rms / config_.min_texture_rms;
+    const double texture_factor = ratio * ratio / (1.0 + ratio * ratio);
+    const double distinct = second <= -1.0f ? 1.0 : std::clamp((peak - second) / 0.25, 0.0, 1.0);
+    level.peak_score = peak;
+    level.disparity_px = static_cast<float>((best + offset) * scale);
+    level.confidence = static_cast<float>(std::max(0.0f, peak) * distinct * texture_factor *
+                                          (level.at_range_edge ? 0.5 : 1.0));
+    level.valid = peak > 0.0f;
+    if (!level.valid) continue;
+    have_estimate = true;
+    estimate_px = level.disparity_px;
+    out.valid = true;
+    out.disparity_px = level.disparity_px;
+    out.confidence = level.confidence;
+    out.level = k;
+  }
+}
+
+}  // namespace cambio::perception

@@ -1,0 +1,117 @@
+// Disparity on stereo pairs with known shifts: right(x) = texture(x + d) puts every scene point
+// d px further left in the right image, so disparity_px = x_left - x_right = d.
+#include "cambio/perception/disparity_estimator.hpp"
+
+#include <gtest/gtest.h>
+
+#include "cambio/perception/sensory_servo.hpp"
+#include "synthetic_images.hpp"
+
+namespace cambio::perception {
+namespace {
+
+SsmConfig stereo_config(int side) {
+  SsmConfig config;
+  config.retina.width_px = side;
+  config.retina.height_px = side;
+  config.motion.enabled = false;
+  config.moments.enabled = false;
+  return config;
+}
+
+DisparityResult run(const SsmConfig& config, const hal::Image& left, const hal::Image& right,
+                    PixelPoint fl, PixelPoint fr) {
+  SensoryServo servo(config, left.width_px, left.height_px);
+  SsmFrame frame = servo.make_frame();
+  FeatureRequest request;
+  request.maps = 0;
+  EXPECT_EQ(servo.process(left, right, fl, fr, request, frame), hal::Status::kOk);
+  return frame.summary.disparity;
+}
+
+class KnownShift : public ::testing::TestWithParam<double> {};
+
+TEST_P(KnownShift, PaperRetinaRecoversTheShiftWithinATenthOfAPixel) {
+  const double shift = GetParam();
+  for (const unsigned seed : {1u, 2u, 3u, 4u}) {
+    const testing::Texture texture(seed);
+    const hal::Image left = testing::render(texture, 640, 480);
+    const hal::Image right = testing::render(texture, 640, 480, shift, 0.0);
+    const DisparityResult result = run(stereo_config(16), left, right, {320, 240}, {320, 240});
+    ASSERT_TRUE(result.valid) << "seed " << seed;
+    EXPECT_EQ(result.level, 0) << "seed " << seed;
+    EXPECT_NEAR(result.disparity_px, shift, 0.1) << "seed " << seed;
+    EXPECT_GT(result.confidence, 0.5f) << "seed " << seed;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shifts, KnownShift,
+                         ::testing::Values(0.0, 1.0, -2.0, 3.0, 0.25, -0.5, 0.7, 2.4, -1.3));
+
+TEST(Disparity, CoarseToFineFindsLargeShifts) {
+  // A 64-px retina with a 17-px window (half 8) matches shifts up to 64/2 - 8 = 24 px in the
+  // fovea; beyond that the estimate stops at level 1 (shifts up to 48 px), within 0.1 level px.
+  SsmConfig config = stereo_config(64);
+  config.disparity.window_half_px = 8;
+  config.disparity.search_range_px = 64;
+  for (const double shift : {9.0, -14.0, 21.6, 30.0, -41.3}) {
+    const testing::Texture texture(21);
+    const hal::Image left = testing::render(texture, 640, 480);
+    const hal::Image right = testing::render(texture, 640, 480, shift, 0.0);
+    const DisparityResult result = run(config, left, right, {320, 240}, {320, 240});
+    ASSERT_TRUE(result.valid) << shift;
+    const int expected_level = std::abs(shift) <= 24 - 2 ? 0 : 1;
+    EXPECT_EQ(result.level, expected_level) << shift;
+    EXPECT_NEAR(result.disparity_px, shift, 0.1 * (1 << expected_level)) << shift;
+  }
+}
+
+TEST(Disparity, PaperRetinaReportsTheFinestLevelThatStillOverlaps) {
+  // 16-px foveas cannot overlap at 30 px of disparity: the estimate comes from a coarser
+  // level, to within that level's accuracy, and the finer levels say they were not searched.
+  const testing::Texture texture(5);
+  const hal::Image left = testing::render(texture, 640, 480);
+  const hal::Image right = testing::render(texture, 640, 480, 30.0, 0.0);
+  const DisparityResult result = run(stereo_config(16), left, right, {320, 240}, {320, 240});
+  ASSERT_TRUE(result.valid);
+  EXPECT_GT(result.level, 0);
+  EXPECT_NEAR(result.disparity_px, 30.0, 0.25 * (1 << result.level));
+  EXPECT_FALSE(result.per_level[0].searched);
+}
+
+TEST(Disparity, IsRelativeToEachRetinasFixation) {
+  // Fixating the right eye 6 px to the left of the left eye's fixation on a pair with 6 px of
+  // image disparity puts both retinas on the same scene point: zero vergence error.
+  const testing::Texture texture(8);
+  const hal::Image left = testing::render(texture, 640, 480);
+  const hal::Image right = testing::render(texture, 640, 480, 6.0, 0.0);
+  const DisparityResult result = run(stereo_config(16), left, right, {300, 200}, {294, 200});
+  ASSERT_TRUE(result.valid);
+  EXPECT_NEAR(result.disparity_px, 0.0, 0.1);
+}
+
+TEST(Disparity, UntexturedPairsAreInvalidOrLowConfidence) {
+  const SsmConfig config = stereo_config(16);
+  {
+    const hal::Image left = testing::flat(320, 240, 120, 0.0, 1);
+    const DisparityResult result = run(config, left, left, {160, 120}, {160, 120});
+    EXPECT_FALSE(result.valid);
+    EXPECT_EQ(result.confidence, 0.0f);
+  }
+  {
+    // Independent sensor noise only: nothing to match.
+    const hal::Image left = testing::flat(320, 240, 120, 1.0, 1);
+    const hal::Image right = testing::flat(320, 240, 120, 1.0, 2);
+    const DisparityResult result = run(config, left, right, {160, 120}, {160, 120});
+    EXPECT_TRUE(!result.valid || result.confidence < 0.3f) << result.confidence;
+  }
+}
+
+TEST(Disparity, UnknownFeatureNamesAreRejected) {
+  SsmConfig config = stereo_config(16);
+  config.disparity.features = {"g2x@1.5"};
+  EXPECT_THROW(SensoryServo(config, 64, 64), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cambio::perception

@@ -31,6 +31,12 @@ std::string plain(double value) {
   return buffer;
 }
 
+/// "1 joint", "2 joints".
+std::string count(std::size_t n, const std::string& singular, std::string plural = {}) {
+  if (plural.empty()) plural = singular + "s";
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 double degrees(double radians) {
   return radians * 180.0 / std::numbers::pi;
 }
@@ -46,9 +52,9 @@ std::string vector_text(const std::array<double, 3>& v, double scale = 1.0) {
 
 void print_summary(const RigConfig& rig, std::ostream& out) {
   out << "rig " << rig.name << " (" << rig.source_file << "): OK\n";
-  out << "  " << rig.joints.size() << " joints in " << rig.groups.size() << " groups, "
-      << rig.cameras.size() << " cameras, " << rig.loops.size() << " loops, "
-      << rig.can_buses.size() << " CAN buses\n";
+  out << "  " << count(rig.joints.size(), "joint") << " in " << count(rig.groups.size(), "group")
+      << ", " << count(rig.cameras.size(), "camera") << ", " << count(rig.loops.size(), "loop")
+      << ", " << count(rig.can_buses.size(), "CAN bus", "CAN buses") << "\n";
 
   std::size_t name_width = 0;
   for (const auto& joint : rig.joints) name_width = std::max(name_width, joint.name.size());
@@ -61,9 +67,9 @@ void print_summary(const RigConfig& rig, std::ostream& out) {
     for (const auto& joint_name : group.joints) {
       const auto* joint = rig.find_joint(joint_name);
       if (joint == nullptr) continue;
-      out << "    " << pad(joint->name, name_width) << "  ["
-          << fixed(degrees(joint->min_position_rad), 1) << ", "
-          << fixed(degrees(joint->max_position_rad), 1) << "] deg  max "
+      const std::string limits = "[" + fixed(degrees(joint->min_position_rad), 1) + ", " +
+                                 fixed(degrees(joint->max_position_rad), 1) + "] deg";
+      out << "    " << pad(joint->name, name_width) << "  " << pad(limits, 22) << "max "
           << plain(joint->max_velocity_rad_s) << " rad/s, " << plain(joint->max_acceleration_rad_s2)
           << " rad/s^2";
       if (joint->max_effort_nm > 0) out << ", " << plain(joint->max_effort_nm) << " N m";

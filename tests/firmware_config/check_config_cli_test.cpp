@@ -11,15 +11,15 @@
 
 namespace {
 
-struct Run {
+struct CommandRun {
   int exit_code = -1;
   std::string output;  ///< stdout and stderr together.
 };
 
-Run run_cambio(const std::string& arguments) {
+CommandRun run_cambio(const std::string& arguments) {
   const std::string command =
       std::string(CAMBIO_BINARY_DIR) + "/bin/cambio check-config " + arguments + " 2>&1";
-  Run run;
+  CommandRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
   std::array<char, 4096> buffer{};
@@ -36,7 +36,7 @@ std::string shipped(const std::string& name) {
 }
 
 TEST(CheckConfigCli, ShippedRigsPassWithASummary) {
-  const Run cambio = run_cambio(shipped("cambio.yaml"));
+  const CommandRun cambio = run_cambio(shipped("cambio.yaml"));
   EXPECT_EQ(cambio.exit_code, 0) << cambio.output;
   EXPECT_NE(cambio.output.find("rig cambio"), std::string::npos) << cambio.output;
   EXPECT_NE(cambio.output.find("neck_pan"), std::string::npos) << cambio.output;
@@ -44,12 +44,12 @@ TEST(CheckConfigCli, ShippedRigsPassWithASummary) {
   EXPECT_NE(cambio.output.find("1000 Hz"), std::string::npos) << cambio.output;
   EXPECT_NE(cambio.output.find("640x480"), std::string::npos) << cambio.output;
 
-  const Run pan_tilt = run_cambio(shipped("pan_tilt.yaml"));
+  const CommandRun pan_tilt = run_cambio(shipped("pan_tilt.yaml"));
   EXPECT_EQ(pan_tilt.exit_code, 0) << pan_tilt.output;
 }
 
 TEST(CheckConfigCli, OverrideIsApplied) {
-  const Run run = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=250");
+  const CommandRun run = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=250");
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("250 Hz"), std::string::npos) << run.output;
 }
@@ -65,7 +65,7 @@ TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
     std::ofstream out(path);
     out << text;
   }
-  const Run run = run_cambio(path.string());
+  const CommandRun run = run_cambio(path.string());
   std::filesystem::remove(path);
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find(path.string() + ":13:25: joints.pan.max_velocity_rad_s: expected a "
@@ -77,18 +77,18 @@ TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
 }
 
 TEST(CheckConfigCli, BadOverrideExitsTwo) {
-  const Run bad_value = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=0");
+  const CommandRun bad_value = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=0");
   EXPECT_EQ(bad_value.exit_code, 2) << bad_value.output;
   EXPECT_NE(bad_value.output.find("--set: loops.joint.rate_hz: expected a number"),
             std::string::npos)
       << bad_value.output;
-  const Run malformed = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz");
+  const CommandRun malformed = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz");
   EXPECT_EQ(malformed.exit_code, 2) << malformed.output;
   EXPECT_NE(malformed.output.find("(no '=')"), std::string::npos) << malformed.output;
 }
 
 TEST(CheckConfigCli, MissingFileExitsTwo) {
-  const Run run = run_cambio("/nonexistent/rig.yaml");
+  const CommandRun run = run_cambio("/nonexistent/rig.yaml");
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("/nonexistent/rig.yaml: cannot read the file"), std::string::npos)
       << run.output;
@@ -96,7 +96,7 @@ TEST(CheckConfigCli, MissingFileExitsTwo) {
 
 TEST(CheckConfigCli, MissingArgumentAndHelp) {
   EXPECT_EQ(run_cambio("").exit_code, 2);
-  const Run help = run_cambio("--help");
+  const CommandRun help = run_cambio("--help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("--set"), std::string::npos) << help.output;
 }

@@ -77,7 +77,8 @@ TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
 }
 
 TEST(CheckConfigCli, BadOverrideExitsTwo) {
-  const CommandRun bad_value = run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=0");
+  const CommandRun bad_value =
+      run_cambio(shipped("pan_tilt.yaml") + " --set loops.joint.rate_hz=0");
   EXPECT_EQ(bad_value.exit_code, 2) << bad_value.output;
   EXPECT_NE(bad_value.output.find("--set: loops.joint.rate_hz: expected a number"),
             std::string::npos)

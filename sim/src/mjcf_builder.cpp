@@ -163,7 +163,8 @@ class Builder {
         << "\" material=\"robot_shell\"/>\n"
         // Reflected rotor inertia of a geared drive; it also keeps the small finger links stiff
         // enough for a 1 ms step.
-        << "      <joint armature=\"0.02\" damping=\"0.05\"/>\n"
+        << "      <joint armature=\"0.02\" damping=\"0.05\" solreflimit=\"0.004 1\" "
+           "solimplimit=\"0.99 0.999 0.001\"/>\n"
         << "    </default>\n"
         << "    <default class=\"head\">\n"
         << "      <geom contype=\"0\" conaffinity=\"0\" group=\"" << kHiddenFromEyesGeomGroup

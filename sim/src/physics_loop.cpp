@@ -165,7 +165,9 @@ void PhysicsLoop::publish(std::int64_t stamp_ns) noexcept {
       state.velocity_rad_s = servos_[i].encoder_velocity_rad_s();
       state.effort_nm = joints[i].kinematic ? 0.0 : data->actuator_force[joints[i].actuator_id];
       const double q = data->qpos[joints[i].qpos_address];
-      const double at_limit_tolerance = 1e-4;
+      // Within 1 mrad: a servo resting at a limit sits off it by its motion error (a few 0.1
+      // mrad), an arm by its stop's compliance.
+      const double at_limit_tolerance = 1e-3;
       if (q <= rig.joints[i].min_position_rad + at_limit_tolerance ||
           q >= rig.joints[i].max_position_rad - at_limit_tolerance) {
         state.status_bits |= hal::kJointAtLimit;

@@ -47,6 +47,10 @@ Renderer::~Renderer() {
   mj_deleteData(data_);
 }
 
+int Renderer::overview_camera_id() const {
+  return mj_name2id(world_.model(), mjOBJ_CAMERA, kOverviewCameraName);
+}
+
 void Renderer::set_state(const WorldSnapshot& snapshot) noexcept {
   const mjModel* model = world_.model();
   snapshot.restore(model, data_);

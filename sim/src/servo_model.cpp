@@ -69,18 +69,21 @@ void ServoModel::advance_position_profile(double target_rad) noexcept {
   const double dt = params_.step_s;
   const double a = params_.max_acceleration_rad_s2;
   const double error = target_rad - state_.profile_position_rad;
-  // Fastest approach that can still stop at the target: v^2 = 2 a |e|, capped by the velocity
-  // limit and by what one step can cover.
-  double desired = std::min(
-      {params_.max_velocity_rad_s, std::sqrt(2.0 * a * std::abs(error)), std::abs(error) / dt});
+  // Fastest approach that can still stop at the target in discrete steps: from v = n a dt the
+  // drive covers a dt^2 n (n + 1) / 2 before it stands still, so n = sqrt(1/4 + 2|e|/(a dt^2))
+  // - 1/2. Capped by the velocity limit and by what one step can cover.
+  const double n = std::sqrt(0.25 + 2.0 * std::abs(error) / (a * dt * dt)) - 0.5;
+  double desired = std::min({params_.max_velocity_rad_s, n * a * dt, std::abs(error) / dt});
   desired = std::copysign(desired, error);
   const double v = std::clamp(desired, state_.profile_velocity_rad_s - a * dt,
                               state_.profile_velocity_rad_s + a * dt);
   state_.profile_velocity_rad_s = v;
   state_.profile_position_rad += v * dt;
-  if (std::abs(target_rad - state_.profile_position_rad) < 1e-12 && std::abs(v) <= a * dt) {
+  // The last step lands within a dt^2 / 8 of the target (fractional n): settle on it; the
+  // next step's velocity is then 0, within one step's deceleration.
+  if (std::abs(target_rad - state_.profile_position_rad) <= 0.125 * a * dt * dt + 1e-12 &&
+      std::abs(v) <= a * dt) {
     state_.profile_position_rad = target_rad;
-    state_.profile_velocity_rad_s = 0.0;
   }
 }
 

@@ -13,7 +13,19 @@ SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer,
       snapshots_(snapshots),
       noise_(noise_std, seed),
       rgb_(static_cast<std::size_t>(info_.intrinsics.width_px) *
-           static_cast<std::size_t>(info_.intrinsics.height_px) * 3) {}
+           static_cast<std::size_t>(info_.intrinsics.height_px) * 3) {
+  // Mesa's llvmpipe compiles shader variants with LLVM on first use, which allocates through
+  // operator new. Render once here, through this eye and through the overview (which sees every
+  // material of the scene), so grab() never triggers a compile.
+  std::lock_guard<std::mutex> lock(renderer_.mutex());
+  const int width = info_.intrinsics.width_px;
+  const int height = info_.intrinsics.height_px;
+  (void)renderer_.render(camera_id_, width, height, ViewOptions{}, rgb_.data(), nullptr);
+  const int overview = renderer_.overview_camera_id();
+  if (overview >= 0) {
+    (void)renderer_.render(overview, width, height, ViewOptions{}, rgb_.data(), nullptr);
+  }
+}
 
 void SimCamera::convert_rows(const std::uint8_t* rgb_bottom_up, int width, int height,
                              hal::PixelFormat format, hal::Image& out) noexcept {

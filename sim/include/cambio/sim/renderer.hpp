@@ -58,6 +58,8 @@ class Renderer {
   void render_raw_reference(int camera_id, int width_px, int height_px, std::uint8_t* rgb);
 
   const World& world() const { return world_; }
+  /// MuJoCo id of the scene's overview camera (-1 if the model has none).
+  int overview_camera_id() const;
   /// The render-side state (after set_state): poses of bodies, cameras (xpos, xmat).
   const mjData_* state() const { return data_; }
   std::string gl_renderer_name() { return egl_.renderer_name(); }

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "cambio/config/rig_loader.hpp"
+#include "cambio/config/scene_config.hpp"
+#include "cambio/hal/image.hpp"
+
+namespace cambio::sim::testing {
+
+inline config::RigConfig load_shipped_rig(const std::string& name = "cambio") {
+  return config::load_rig(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name +
+                          ".yaml");
+}
+
+inline config::SceneConfig load_shipped_scene(const std::string& name) {
+  return config::load_scene(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/scenes/" + name +
+                            ".yaml");
+}
+
+inline void set_initial(config::RigConfig& rig, const std::string& joint, double position_rad) {
+  for (auto& j : rig.joints) {
+    if (j.name == joint) j.initial_position_rad = position_rad;
+  }
+}
+
+/// Turns every noise source off so geometric tests are exact.
+inline void make_ideal(config::RigConfig& rig) {
+  for (auto& joint : rig.joints) {
+    joint.servo.motion_noise_std_rad = 0.0;
+    joint.servo.encoder_counts_per_rev = 0;
+    joint.servo.backlash_rad = 0.0;
+  }
+  for (auto& camera : rig.cameras) camera.image_noise_std = 0.0;
+}
+
+struct Centroid {
+  double x = 0.0;
+  double y = 0.0;
+  double weight = 0.0;
+};
+
+/// Centroid of the pixels where red dominates (a red marker on a grey or blue world). A plain
+/// mask, not weighted by intensity: the marker is lit from above, so weighting by brightness
+/// would pull the centroid up. Without MSAA the mask's edge is exact to the pixel grid.
+inline Centroid red_centroid(const hal::Image& image) {
+  Centroid c;
+  for (int y = 0; y < image.height_px; ++y) {
+    const std::uint8_t* row = image.row(y);
+    for (int x = 0; x < image.width_px; ++x) {
+      const double r = row[3 * x], g = row[3 * x + 1], b = row[3 * x + 2];
+      if (r < 30.0 || r < 2.0 * std::max(g, b)) continue;
+      c.x += x;
+      c.y += y;
+      c.weight += 1.0;
+    }
+  }
+  if (c.weight > 0.0) {
+    c.x /= c.weight;
+    c.y /= c.weight;
+  }
+  return c;
+}
+
+}  // namespace cambio::sim::testing

@@ -2,15 +2,15 @@
 
 namespace cambio::app {
 
-CameraLoop::CameraLoop(std::vector<hal::Camera*> cameras) : cameras_(std::move(cameras)) {}
-
-void CameraLoop::configure() {
-  channels_.clear();
+CameraLoop::CameraLoop(std::vector<hal::Camera*> cameras) : cameras_(std::move(cameras)) {
   for (const hal::Camera* camera : cameras_) {
     const auto& info = camera->info();
     channels_.push_back(std::make_unique<hal::TripleBuffer<hal::Image>>(
         hal::Image(info.intrinsics.width_px, info.intrinsics.height_px, info.format)));
   }
+}
+
+void CameraLoop::configure() {
   // Warm-up grab, not published: a backend's first frame builds contexts, compiles shaders or
   // maps buffers (heap work that must not land in the first update()).
   for (std::size_t i = 0; i < cameras_.size(); ++i) {

@@ -14,15 +14,16 @@ namespace cambio::app {
 /// latest-value channel. Frames are allocated at configure; grabbing copies into them.
 class CameraLoop final : public hal::Loop {
  public:
+  /// Allocates one channel per camera, sized from its info (readers may attach at once).
   explicit CameraLoop(std::vector<hal::Camera*> cameras);
 
   const std::string& name() const override { return name_; }
-  /// Allocates the channels and grabs one frame from each camera (discarded) so the backend's
-  /// first-frame setup happens here, not in update().
+  /// Grabs one frame from each camera (discarded) so the backend's first-frame setup happens
+  /// here, not in update().
   void configure() override;
   hal::Status update(const hal::LoopTick& tick) noexcept override;
 
-  /// The channel of camera `index` (in constructor order). Valid after configure().
+  /// The channel of camera `index` (in constructor order).
   hal::TripleBuffer<hal::Image>& frames(std::size_t index) { return *channels_[index]; }
   std::uint64_t frames_grabbed() const { return frames_grabbed_; }
 

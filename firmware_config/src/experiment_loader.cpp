@@ -1,4 +1,5 @@
 #include <filesystem>
+#include <optional>
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_loader.hpp"
@@ -40,20 +41,73 @@ ExperimentConfig load_experiment(const std::string& path,
           ? ExecutorKind::kRealtime
           : ExecutorKind::kLockstep;
   config.duration_s = experiment.number("duration_s", Range::positive());
+  config.perception_path = resolve(experiment.text_or("perception", ""));
+  config.task = experiment.choice_or("task", {"hold", "vergence"}, "hold") == "vergence"
+                    ? ControlTask::kVergence
+                    : ControlTask::kHold;
+  if (auto vergence = experiment.optional_map("vergence")) {
+    config.vergence.verging_eye =
+        vergence->choice_or("verging_eye", {"left", "right"}, "right") == "left" ? EyeSide::kLeft
+                                                                                  : EyeSide::kRight;
+    config.vergence.gain = vergence->number_or("gain", 0.5, {0.0, 1.0, true, false});
+    config.vergence.min_confidence = vergence->number_or("min_confidence", 0.3, Range::closed(0, 1));
+    config.vergence.max_step_rad = vergence->angle_rad_or("max_step", 0.05, Range::positive());
+    config.vergence.goal_disparity_px =
+        vergence->number_or("goal_disparity_px", 1.0, Range::non_negative());
+    vergence->finish();
+  }
   config.seed = static_cast<std::uint64_t>(
       experiment.integer_or("seed", 0, Range::closed(0, 9.007199254740992e15)));
   if (!config.rig_path.empty() && !std::filesystem::exists(config.rig_path)) {
     experiment.error("rig", "expected an existing rig file, found \"" + rig_file +
                                 "\" (resolved to " + config.rig_path + ")");
   }
+  if (!config.perception_path.empty() && !std::filesystem::exists(config.perception_path)) {
+    experiment.error("perception", "expected an existing perception config file, found \"" +
+                                       config.perception_path + "\"");
+  }
   if (!config.scene_path.empty() && !std::filesystem::exists(config.scene_path)) {
     experiment.error("scene", "expected an existing scene file, found \"" + scene_file +
                                   "\" (resolved to " + config.scene_path + ")");
   }
+  // The initial pose names rig joints, so it is checked once the rig is loaded. Problems of
+  // both files are reported together.
+  std::optional<MapReader> pose = experiment.optional_map("initial_pose");
+  bool rig_loaded = false;
+  if (!config.rig_path.empty() && std::filesystem::exists(config.rig_path)) {
+    try {
+      config.rig = load_rig(config.rig_path, rig_overrides);
+      rig_loaded = true;
+    } catch (const ConfigError& error) {
+      for (const auto& issue : error.issues()) document.issues()->add(issue);
+    }
+  }
+  if (!rig_loaded) {
+    experiment.finish();
+    document.issues()->throw_if_any();
+  }
+  if (pose) {
+    for (auto& joint : config.rig.joints) {
+      if (!pose->has(joint.name + "_deg") && !pose->has(joint.name + "_rad")) continue;
+      const double position_rad = pose->angle_rad(joint.name);
+      if (position_rad < joint.min_position_rad || position_rad > joint.max_position_rad) {
+        pose->error(joint.name + (pose->has(joint.name + "_deg") ? "_deg" : "_rad"),
+                    "expected a position within the joint's limits [" +
+                        std::to_string(joint.min_position_rad) + ", " +
+                        std::to_string(joint.max_position_rad) + "] rad, found " +
+                        std::to_string(position_rad) + " rad");
+        continue;
+      }
+      joint.initial_position_rad = position_rad;
+    }
+    pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
+  }
+  if (config.task == ControlTask::kVergence && !config.rig.stereo) {
+    experiment.error("task", "expected a rig with a stereo pair for the vergence task, found "
+                             "none in " + config.rig_path);
+  }
   experiment.finish();
   document.issues()->throw_if_any();
-
-  config.rig = load_rig(config.rig_path, rig_overrides);
   return config;
 }
 

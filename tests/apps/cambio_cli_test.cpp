@@ -71,7 +71,8 @@ TEST(CambioCli, RunRefusesAMissingExperiment) {
 
 TEST(CambioCli, RunRefusesABackendThatIsNotBuiltYet) {
   const auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set rig.groups.head.backend=socketcan");
+      "run firmware_config/experiments/sim_default.yaml --set rig.groups.head.backend=socketcan "
+      "--set rig.loops.joint.rate_hz=500");  // 5 drives at 1 kHz would overload a 1 Mbit/s bus.
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_TRUE(contains(result.output, "backend 'socketcan' requested by joint group 'head'"))
       << result.output;
@@ -82,17 +83,41 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_run";
   std::filesystem::remove_all(out_dir);
   const auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set experiment.duration_s=0.5 --out '" +
-      out_dir.string() + "'");
+      "run firmware_config/experiments/sim_default.yaml --set experiment.duration_s=0.5 "
+      "--set experiment.task=hold --out '" + out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "joint")) << result.output;
   // 0.5 s at 30 Hz, two cameras: 15 frames each.
   EXPECT_TRUE(contains(result.output, "camera frames grabbed: 30")) << result.output;
   EXPECT_TRUE(std::filesystem::exists(out_dir / "left_eye.png"));
   EXPECT_TRUE(std::filesystem::exists(out_dir / "right_eye.png"));
-  std::ifstream json(out_dir / "loops.json");
+  std::ifstream json(out_dir / "summary.json");
   const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_TRUE(contains(text, "\"allocations_per_cycle\": 0")) << text;
+  EXPECT_FALSE(contains(text, "\"vergence\"")) << "task=hold runs no vergence loop: " << text;
+}
+
+// The main job end to end: the right eye starts 7 deg off and must verge on the textured sphere
+// to within the experiment's goal of 1 px; the run exits 1 otherwise.
+TEST(CambioCli, TheSimDefaultVergesOnTheTexturedSphere) {
+  const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_vergence";
+  std::filesystem::remove_all(out_dir);
+  const auto result = run_cambio("run firmware_config/experiments/sim_default.yaml --out '" +
+                                 out_dir.string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_TRUE(contains(result.output, "): verged")) << result.output;
+  std::ifstream json(out_dir / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(contains(text, "\"vergence\": {")) << text;
+}
+
+TEST(CambioCli, RunReportsExperimentMistakesWithTheirLine) {
+  const auto result = run_cambio(
+      "run firmware_config/experiments/sim_default.yaml --set experiment.task=verge "
+      "--set experiment.initial_pose.left_eye_pam_deg=3");
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_TRUE(contains(result.output, "experiment.task")) << result.output;
+  EXPECT_TRUE(contains(result.output, "left_eye_pam_deg")) << result.output;
 }
 
 }  // namespace

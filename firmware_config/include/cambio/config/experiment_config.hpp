@@ -14,6 +14,24 @@ enum class ExecutorKind : std::uint8_t {
   kRealtime,  ///< Paced to CLOCK_MONOTONIC, a thread per loop.
 };
 
+/// What the control loop does during the run.
+enum class ControlTask : std::uint8_t {
+  kHold,      ///< Hold the initial pose (the joint loop's limits and watchdog still act).
+  kVergence,  ///< The paper's experiment 1: verge one eye onto the dominant eye's fixation.
+};
+
+enum class EyeSide : std::uint8_t { kLeft, kRight };
+
+/// The vergence controller's settings (control/vergence_controller.hpp).
+struct VergenceTaskConfig {
+  EyeSide verging_eye = EyeSide::kRight;
+  double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.
+  double min_confidence = 0.3;  ///< Ignore measurements below this.
+  double max_step_rad = 0.05;   ///< Largest correction per measurement.
+  /// The run succeeds if |disparity| at the end is at most this (level-0 px); 0: not scored.
+  double goal_disparity_px = 1.0;
+};
+
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.
 struct ExperimentConfig {
   std::string source_file;
@@ -23,9 +41,14 @@ struct ExperimentConfig {
   ExecutorKind executor = ExecutorKind::kLockstep;
   double duration_s = 0.0;
   std::uint64_t seed = 0;
-  /// Joints start at the rig's initial_position; change it per run with
-  /// `--set rig.joints.<name>.initial_position_deg=...`.
-  RigConfig rig;  ///< The loaded rig (rig overrides from the command line applied).
+  /// The perception (SSM) settings file; empty: the shipped default.
+  std::string perception_path;
+  ControlTask task = ControlTask::kHold;
+  VergenceTaskConfig vergence;
+  /// The loaded rig, overrides from the command line applied, and the experiment's
+  /// `initial_pose` (joint name -> `<joint>_deg` or `<joint>_rad`) written into each joint's
+  /// initial_position_rad.
+  RigConfig rig;
 };
 
 /// Loads an experiment and the rig it names. `overrides` apply to the experiment file; keys

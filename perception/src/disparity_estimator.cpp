@@ -140,16 +140,23 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
     const double distinct = second <= -1.0f ? 1.0 : std::clamp((peak - second) / 0.25, 0.0, 1.0);
     level.peak_score = peak;
     level.disparity_px = static_cast<float>((best + offset) * scale);
-    level.confidence = static_cast<float>(std::max(0.0f, peak) * distinct * texture_factor *
-                                          (level.at_range_edge ? 0.5 : 1.0));
-    level.valid = peak > 0.0f;
-    if (!level.valid) continue;
+    level.confidence = static_cast<float>(std::max(0.0f, peak) * distinct * texture_factor);
+    // A best match on the edge of the range may be a slope towards a peak outside it (e.g. a
+    // disparity beyond what this level's overlap allows). With a coarser estimate, keep that
+    // and stop; without one, report the edge at half confidence and refine no further.
+    level.valid = peak > 0.0f && !(level.at_range_edge && have_estimate);
+    if (level.at_range_edge) level.confidence *= 0.5f;
+    if (!level.valid) {
+      if (level.at_range_edge) break;
+      continue;
+    }
     have_estimate = true;
     estimate_px = level.disparity_px;
     out.valid = true;
     out.disparity_px = level.disparity_px;
     out.confidence = level.confidence;
     out.level = k;
+    if (level.at_range_edge) break;
   }
 }
 

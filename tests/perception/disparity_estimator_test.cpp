@@ -67,16 +67,27 @@ TEST(Disparity, CoarseToFineFindsLargeShifts) {
 }
 
 TEST(Disparity, PaperRetinaReportsTheFinestLevelThatStillOverlaps) {
-  // 16-px foveas cannot overlap at 30 px of disparity: the estimate comes from a coarser
-  // level, to within that level's accuracy, and the finer levels say they were not searched.
+  // 16-px foveas cannot overlap at 26 px of disparity: the estimate comes from a coarser
+  // level, to within that level's accuracy, and the fovea says it was not searched.
   const testing::Texture texture(5);
   const hal::Image left = testing::render(texture, 640, 480);
-  const hal::Image right = testing::render(texture, 640, 480, 30.0, 0.0);
+  const hal::Image right = testing::render(texture, 640, 480, 26.0, 0.0);
   const DisparityResult result = run(stereo_config(16), left, right, {320, 240}, {320, 240});
   ASSERT_TRUE(result.valid);
   EXPECT_GT(result.level, 0);
-  EXPECT_NEAR(result.disparity_px, 30.0, 0.25 * (1 << result.level));
+  EXPECT_NEAR(result.disparity_px, 26.0, 0.25 * (1 << result.level));
   EXPECT_FALSE(result.per_level[0].searched);
+}
+
+TEST(Disparity, BeyondTheSearchableRangeIsNotAConfidentWrongNumber) {
+  // The paper retina's coarsest level reaches 4 x 8 = 32 px; 60 px lies outside.
+  const testing::Texture texture(6);
+  const hal::Image left = testing::render(texture, 640, 480);
+  const hal::Image right = testing::render(texture, 640, 480, 60.0, 0.0);
+  const DisparityResult result = run(stereo_config(16), left, right, {320, 240}, {320, 240});
+  EXPECT_TRUE(!result.valid || result.confidence <= 0.5f ||
+              std::abs(result.disparity_px - 60.0) < 2.0)
+      << result.disparity_px << " confidence " << result.confidence;
 }
 
 TEST(Disparity, IsRelativeToEachRetinasFixation) {

@@ -83,20 +83,20 @@ TEST(SsmServer, HonoursRequestedFixationsAndFeatures) {
   server.configure();
   SsmRequest request;
   request.fixation_set = true;
-  request.fixation = {PixelPoint{100, 90}, PixelPoint{104, 90}};
+  request.fixation = {PixelPoint{100, 90}, PixelPoint{103, 90}};
   request.features.maps = 1;  // intensity only
   request.features.motion = false;
   server.requests().write(request);
   ASSERT_EQ(server.update(hal::LoopTick{}), hal::Status::kOk);
   SsmSummary summary;
   server.summaries().read(summary);
-  EXPECT_EQ(summary.fixation[1].x, 104);
+  EXPECT_EQ(summary.fixation[1].x, 103);
   EXPECT_EQ(summary.geometry[0][0].origin_x_px, 100 - 8);
   EXPECT_FALSE(summary.motion[0].valid);
   ASSERT_TRUE(summary.disparity.valid);
-  // Same images, right retina 4 px further right: its centre sees a point 4 px left of the
-  // left centre, so x_left - x_right (each relative to its fixation) is +4.
-  EXPECT_NEAR(summary.disparity.disparity_px, 4.0, 0.1);
+  // Same images, right retina 3 px further right: its centre sees a point 3 px left of the
+  // left centre, so x_left - x_right (each relative to its fixation) is +3.
+  EXPECT_NEAR(summary.disparity.disparity_px, 3.0, 0.1);
 }
 
 TEST(SsmServer, RejectsCamerasOfDifferentSizes) {

@@ -14,7 +14,7 @@ namespace cambio::perception {
 struct LevelDisparity {
   bool searched = false;       ///< False when the level could not hold the coarser estimate.
   bool valid = false;          ///< Textured enough and matched inside the search range.
-  bool at_range_edge = false;  ///< Best match on the edge of the range: no sub-pixel fit.
+  bool at_range_edge = false;  ///< Best match on the range's edge: not trusted (invalid).
   float disparity_px = 0.0f;   ///< x_left - x_right, level-0 px.
   float confidence = 0.0f;     ///< In [0, 1]: peak correlation x distinctiveness x texture.
   float peak_score = 0.0f;     ///< Zero-mean normalised cross-correlation at the best shift.

@@ -1,0 +1,365 @@
+// `cambio perceive`: run the Sensory Servo Module once on an image pair and write what it saw:
+// result.json (disparity and confidence at the fovea, per-level estimates, moments, timings)
+// and contact_sheet.png (the retina levels and feature maps of both eyes, and where each level
+// lies in the images).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "argument_parser.hpp"
+#include "cambio/config/config_error.hpp"
+#include "cambio/config/map_reader.hpp"
+#include "cambio/perception/sensory_servo.hpp"
+#include "command.hpp"
+#include "config_errors.hpp"
+#include "image_files.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+perception::PixelPoint parse_point(const std::string& option, const std::string& text) {
+  const std::size_t comma = text.find(',');
+  try {
+    if (comma == std::string::npos) throw std::invalid_argument("no comma");
+    std::size_t used_x = 0;
+    std::size_t used_y = 0;
+    const int x = std::stoi(text.substr(0, comma), &used_x);
+    const std::string y_text = text.substr(comma + 1);
+    const int y = std::stoi(y_text, &used_y);
+    if (used_x != comma || used_y != y_text.size()) throw std::invalid_argument("trailing text");
+    return {x, y};
+  } catch (const std::exception&) {
+    throw UsageError("perceive: --" + option + " expects X,Y in pixels (e.g. 320,240), found '" +
+                     text + "'");
+  }
+}
+
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string number(double value) {
+  if (!std::isfinite(value)) return "null";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+std::string moments_json(const perception::Moments& m) {
+  if (!m.valid) return "{\"valid\": false}";
+  std::ostringstream out;
+  out << "{\"valid\": true, \"area_px2\": " << number(m.area_px2) << ", \"centroid_px\": ["
+      << number(m.centroid_x_px) << ", " << number(m.centroid_y_px)
+      << "], \"mu20_px2\": " << number(m.mu20_px2) << ", \"mu02_px2\": " << number(m.mu02_px2)
+      << ", \"mu11_px2\": " << number(m.mu11_px2)
+      << ", \"orientation_rad\": " << number(m.orientation_rad)
+      << ", \"eccentricity\": " << number(m.eccentricity) << "}";
+  return out.str();
+}
+
+/// Derivative-like maps as grey with 128 at zero and +-127 at the map's largest magnitude;
+/// smoothing-like maps (intensity, averages, g0) stretched from their minimum to maximum.
+cv::Mat map_tile(const float* map, int width, int height, bool signed_map, int zoom) {
+  cv::Mat tile(height, width, CV_8U);
+  float peak = 0.0f;
+  float low = map[0];
+  float high = map[0];
+  for (int i = 0; i < width * height; ++i) {
+    peak = std::max(peak, std::abs(map[i]));
+    low = std::min(low, map[i]);
+    high = std::max(high, map[i]);
+  }
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const float v = map[y * width + x];
+      float g = 128.0f;
+      if (signed_map && peak > 0.0f) g = 128.0f + 127.0f * v / peak;
+      if (!signed_map && high > low) g = 255.0f * (v - low) / (high - low);
+      tile.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(std::lround(g), 0L, 255L));
+    }
+  }
+  cv::Mat zoomed;
+  cv::resize(tile, zoomed, cv::Size(width * zoom, height * zoom), 0, 0, cv::INTER_NEAREST);
+  return zoomed;
+}
+
+void label(cv::Mat& canvas, const std::string& text, int x, int y, double scale = 0.45) {
+  cv::putText(canvas, text, cv::Point(x, y), cv::FONT_HERSHEY_SIMPLEX, scale,
+              cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
+}
+
+/// Columns: intensity and up to eight feature maps; rows: each level of each eye. Beneath, both
+/// images with each level's footprint drawn (the paper's Figure 1, bottom).
+cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::SsmFrame& frame,
+                      const hal::Image& left, const hal::Image& right) {
+  const auto& cfg = servo.config();
+  const int w = cfg.retina.width_px;
+  const int h = cfg.retina.height_px;
+  const int zoom = std::max(1, 112 / std::max(w, h));
+  const int tile_w = w * zoom;
+  const int tile_h = h * zoom;
+  std::vector<int> columns{0};
+  const std::string s0 =
+      servo.operators().maps().size() > 1 ? servo.operators().maps()[1].name.substr(4) : "";
+  for (const std::string& name :
+       {"g1x@" + s0, "g1y@" + s0, "g2x@" + s0, "g2y@" + s0, "log@" + s0, std::string("sobel_x"),
+        std::string("sobel_y"), std::string("average")}) {
+    const int index = servo.operators().find(name);
+    if (index > 0) columns.push_back(index);
+  }
+  for (int i = 1; i < servo.operators().map_count() && columns.size() < 9; ++i) {
+    if (std::find(columns.begin(), columns.end(), i) == columns.end()) columns.push_back(i);
+  }
+  const int gap = 6;
+  const int margin_left = 120;
+  const int header = 56;
+  const int levels = cfg.retina.levels;
+  const int grid_w = margin_left + static_cast<int>(columns.size()) * (tile_w + gap);
+  const int grid_h = header + 2 * levels * (tile_h + gap) + gap;
+  const int view_w = (grid_w - 3 * gap) / 2;
+  const int view_h = view_w * left.height_px / left.width_px;
+  cv::Mat canvas(grid_h + view_h + 40, grid_w, CV_8UC3, cv::Scalar(235, 235, 235));
+  label(canvas,
+        "Cambio SSM: retina levels (rows) and feature maps (columns); signed maps: grey = 0", 8,
+        16);
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    label(canvas, servo.operators().maps()[static_cast<std::size_t>(columns[c])].name,
+          margin_left + static_cast<int>(c) * (tile_w + gap), header - 6, 0.4);
+  }
+  for (int eye = 0; eye < 2; ++eye) {
+    for (int k = 0; k < levels; ++k) {
+      const int y = header + (eye * levels + k) * (tile_h + gap);
+      const auto& g =
+          frame.summary.geometry[static_cast<std::size_t>(eye)][static_cast<std::size_t>(k)];
+      label(canvas, std::string(eye == 0 ? "left" : "right") + " L" + std::to_string(k), 6, y + 16);
+      label(canvas, "block " + std::to_string(g.scale_px) + " px", 6, y + 34, 0.4);
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        const cv::Mat tile = map_tile(frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]),
+                                      w, h, columns[c] == 0, zoom);
+        cv::Mat colour;
+        cv::cvtColor(tile, colour, cv::COLOR_GRAY2BGR);
+        colour.copyTo(canvas(
+            cv::Rect(margin_left + static_cast<int>(c) * (tile_w + gap), y, tile_w, tile_h)));
+      }
+    }
+  }
+  const cv::Scalar colours[] = {{0, 0, 255},   {0, 160, 0},   {255, 0, 0}, {0, 160, 255},
+                                {200, 0, 200}, {120, 120, 0}, {0, 0, 0},   {90, 90, 90}};
+  for (int eye = 0; eye < 2; ++eye) {
+    const hal::Image& image = eye == 0 ? left : right;
+    const cv::Mat grey(image.height_px, image.width_px, CV_8U,
+                       const_cast<std::uint8_t*>(image.pixels.data()));
+    cv::Mat small;
+    cv::resize(grey, small, cv::Size(view_w, view_h), 0, 0, cv::INTER_AREA);
+    cv::Mat colour;
+    cv::cvtColor(small, colour, cv::COLOR_GRAY2BGR);
+    const double f = static_cast<double>(view_w) / image.width_px;
+    for (int k = 0; k < levels; ++k) {
+      const auto& g =
+          frame.summary.geometry[static_cast<std::size_t>(eye)][static_cast<std::size_t>(k)];
+      cv::rectangle(colour,
+                    cv::Rect(static_cast<int>(std::lround(g.origin_x_px * f)),
+                             static_cast<int>(std::lround(g.origin_y_px * f)),
+                             static_cast<int>(std::lround(w * g.scale_px * f)),
+                             static_cast<int>(std::lround(h * g.scale_px * f))),
+                    colours[k % 8], 1);
+    }
+    const int x = gap + eye * (view_w + gap);
+    colour.copyTo(canvas(cv::Rect(x, grid_h + 26, view_w, view_h)));
+    label(canvas, std::string(eye == 0 ? "left" : "right") + " image, level footprints", x,
+          grid_h + 18);
+  }
+  const auto& d = frame.summary.disparity;
+  char text[160];
+  if (d.valid) {
+    std::snprintf(text, sizeof text, "disparity %.2f px (confidence %.2f, level %d)",
+                  static_cast<double>(d.disparity_px), static_cast<double>(d.confidence), d.level);
+  } else {
+    std::snprintf(text, sizeof text, "disparity invalid (no texture or no match)");
+  }
+  label(canvas, text, 8, 34);
+  return canvas;
+}
+
+}  // namespace
+
+int run_perceive_command(std::span<const std::string> args) {
+  ArgumentParser parser("perceive",
+                        "--left L.png --right R.png [--fixation X,Y | --fixation-left X,Y "
+                        "--fixation-right X,Y] [--config FILE] [--set key=value]... --out DIR");
+  parser.option("left", "FILE", "left image (PNG or JPEG, grey or colour, 8 or 16 bit)")
+      .option("right", "FILE", "right image, same size as the left")
+      .option("fixation", "X,Y", "both retinas' fixation pixel (default: the image centre)")
+      .option("fixation-left", "X,Y", "the left retina's fixation pixel")
+      .option("fixation-right", "X,Y", "the right retina's fixation pixel")
+      .option("config", "FILE", "SSM config (default: firmware_config/perception/ssm.yaml)")
+      .repeated_option("set", "KEY=VALUE", "override a config value, e.g. retina.width_px=64")
+      .option("out", "DIR", "where result.json and contact_sheet.png go (created)");
+  if (!parser.parse(args)) return kExitOk;
+  for (const char* required : {"left", "right", "out"}) {
+    if (!parser.has(required))
+      throw UsageError(std::string("perceive: --") + required + " is required");
+  }
+  if (parser.has("fixation") && (parser.has("fixation-left") || parser.has("fixation-right"))) {
+    throw UsageError("perceive: give --fixation or --fixation-left/--fixation-right, not both");
+  }
+  if (parser.has("fixation-left") != parser.has("fixation-right")) {
+    throw UsageError("perceive: --fixation-left and --fixation-right go together");
+  }
+
+  perception::SsmConfig config;
+  std::string config_path = parser.value("config", perception::default_ssm_config_path());
+  try {
+    std::vector<config::ConfigOverride> overrides;
+    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
+    if (!config_path.empty()) config = perception::load_ssm_config(config_path, overrides);
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
+
+  hal::Image left;
+  hal::Image right;
+  try {
+    left = read_image_file(parser.value("left"), hal::PixelFormat::kGrey8);
+    right = read_image_file(parser.value("right"), hal::PixelFormat::kGrey8);
+  } catch (const ImageFileError& error) {
+    std::cerr << "cambio perceive: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+  if (left.width_px != right.width_px || left.height_px != right.height_px) {
+    std::cerr << "cambio perceive: the images differ in size: " << parser.value("left") << " is "
+              << left.width_px << "x" << left.height_px << ", " << parser.value("right") << " is "
+              << right.width_px << "x" << right.height_px << "\n";
+    return kExitBadInput;
+  }
+  perception::PixelPoint fixation_left{left.width_px / 2, left.height_px / 2};
+  perception::PixelPoint fixation_right = fixation_left;
+  if (parser.has("fixation")) {
+    fixation_left = fixation_right = parse_point("fixation", parser.value("fixation"));
+  } else if (parser.has("fixation-left")) {
+    fixation_left = parse_point("fixation-left", parser.value("fixation-left"));
+    fixation_right = parse_point("fixation-right", parser.value("fixation-right"));
+  }
+  for (const auto& [name, p] :
+       {std::pair{"left", fixation_left}, std::pair{"right", fixation_right}}) {
+    if (p.x < 0 || p.y < 0 || p.x >= left.width_px || p.y >= left.height_px) {
+      std::cerr << "cambio perceive: the " << name << " fixation " << p.x << "," << p.y
+                << " is outside the " << left.width_px << "x" << left.height_px << " image\n";
+      return kExitBadInput;
+    }
+  }
+
+  std::optional<perception::SensoryServo> servo;
+  try {
+    servo.emplace(config, left.width_px, left.height_px);
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "cambio perceive: inconsistent SSM config: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+  perception::SsmFrame frame = servo->make_frame();
+  perception::FeatureRequest request;
+  request.motion = false;  // One frame per eye: there is no previous frame to move from.
+  if (servo->process(left, right, fixation_left, fixation_right, request, frame) !=
+      hal::Status::kOk) {
+    std::cerr << "cambio perceive: the SSM rejected the images\n";
+    return kExitFailure;
+  }
+
+  const std::filesystem::path out_dir = parser.value("out");
+  std::error_code error;
+  std::filesystem::create_directories(out_dir, error);
+  if (error) {
+    std::cerr << "cambio perceive: cannot create " << out_dir << ": " << error.message() << "\n";
+    return kExitFailure;
+  }
+  const perception::SsmSummary& s = frame.summary;
+  const auto& d = s.disparity;
+  std::ostringstream json;
+  json << "{\n  \"left\": " << json_string(parser.value("left"))
+       << ",\n  \"right\": " << json_string(parser.value("right"))
+       << ",\n  \"config\": " << json_string(config_path) << ",\n  \"image_size_px\": ["
+       << left.width_px << ", " << left.height_px << "],\n"
+       << "  \"fixation_left_px\": [" << fixation_left.x << ", " << fixation_left.y << "],\n"
+       << "  \"fixation_right_px\": [" << fixation_right.x << ", " << fixation_right.y << "],\n"
+       << "  \"convention\": \"disparity_px = x_left - x_right in level-0 px, each relative to its "
+          "retina's fixation (the vergence error); image_disparity_px adds the fixation offset\",\n"
+       << "  \"disparity_px\": " << (d.valid ? number(d.disparity_px) : "null") << ",\n"
+       << "  \"confidence\": " << number(d.confidence) << ",\n"
+       << "  \"disparity_valid\": " << (d.valid ? "true" : "false") << ",\n"
+       << "  \"disparity_level\": " << d.level << ",\n"
+       << "  \"image_disparity_px\": "
+       << (d.valid ? number(d.disparity_px + (fixation_left.x - fixation_right.x)) : "null")
+       << ",\n"
+       << "  \"retina\": {\"levels\": " << config.retina.levels
+       << ", \"width_px\": " << config.retina.width_px
+       << ", \"height_px\": " << config.retina.height_px
+       << ", \"apron_px\": " << servo->retina(perception::Eye::kLeft).apron()
+       << "},\n  \"levels\": [\n";
+  for (int k = 0; k < s.levels; ++k) {
+    const auto& l = d.per_level[static_cast<std::size_t>(k)];
+    const auto& g = s.geometry[0][static_cast<std::size_t>(k)];
+    json << "    {\"level\": " << k << ", \"scale_px\": " << g.scale_px << ", \"origin_left_px\": ["
+         << g.origin_x_px << ", " << g.origin_y_px
+         << "], \"fraction_inside_left\": " << number(g.fraction_inside)
+         << ",\n     \"disparity\": {\"searched\": " << (l.searched ? "true" : "false")
+         << ", \"valid\": " << (l.valid ? "true" : "false")
+         << ", \"disparity_px\": " << (l.valid ? number(l.disparity_px) : "null")
+         << ", \"confidence\": " << number(l.confidence)
+         << ", \"peak_score\": " << number(l.peak_score)
+         << ", \"texture_rms\": " << number(l.texture_rms)
+         << ", \"at_range_edge\": " << (l.at_range_edge ? "true" : "false")
+         << ", \"search_level_px\": [" << l.search_min_px << ", " << l.search_max_px
+         << "]},\n     \"moments\": {\"map\": " << json_string(config.moments.map)
+         << ", \"left\": " << moments_json(s.moments[0][static_cast<std::size_t>(k)])
+         << ", \"right\": " << moments_json(s.moments[1][static_cast<std::size_t>(k)]) << "}}"
+         << (k + 1 < s.levels ? "," : "") << "\n";
+  }
+  json << "  ],\n  \"maps\": [";
+  for (int i = 0; i < servo->operators().map_count(); ++i) {
+    json << (i ? ", " : "")
+         << json_string(servo->operators().maps()[static_cast<std::size_t>(i)].name);
+  }
+  json << "],\n  \"timings_us\": {\"retina\": " << number(s.timings.retina_us)
+       << ", \"features\": " << number(s.timings.features_us)
+       << ", \"disparity\": " << number(s.timings.disparity_us)
+       << ", \"moments\": " << number(s.timings.moments_us)
+       << ", \"total\": " << number(s.timings.total_us)
+       << "},\n  \"contact_sheet\": \"contact_sheet.png\"\n}\n";
+  std::ofstream(out_dir / "result.json") << json.str();
+
+  const cv::Mat sheet = contact_sheet(*servo, frame, left, right);
+  hal::Image png(sheet.cols, sheet.rows, hal::PixelFormat::kRgb8);
+  cv::Mat rgb(sheet.rows, sheet.cols, CV_8UC3, png.pixels.data());
+  cv::cvtColor(sheet, rgb, cv::COLOR_BGR2RGB);
+  write_png((out_dir / "contact_sheet.png").string(), png);
+
+  std::printf("disparity %s px, confidence %.2f (level %d); wrote %s and %s\n",
+              d.valid ? number(d.disparity_px).c_str() : "invalid",
+              static_cast<double>(d.confidence), d.level, (out_dir / "result.json").c_str(),
+              (out_dir / "contact_sheet.png").c_str());
+  return kExitOk;
+}
+
+}  // namespace cambio::app

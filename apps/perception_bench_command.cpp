@@ -1,0 +1,275 @@
+// `cambio perception-bench`: the paper's claim, measured. On one 640x480 stereo pair: the whole
+// SSM (retinas, every operator at 3 sigmas, disparity, motion, moments) for the paper's 4 x 16 x 16
+// retina and for 4 x 64 x 64; a memcpy of both images (the memory bound); the same operator set
+// on the full images with cv::sepFilter2D (the "filter everything" approach); and cv::StereoBM
+// on the full pair. Every figure is the median time per stereo pair.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <numbers>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "argument_parser.hpp"
+#include "cambio/perception/gaussian_kernels.hpp"
+#include "cambio/perception/sensory_servo.hpp"
+#include "command.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kWidth = 640;
+constexpr int kHeight = 480;
+
+/// A textured pair with 3.3 px of disparity (band-limited, so sub-pixel shifts are exact).
+void make_pair(hal::Image& left, hal::Image& right) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  struct Wave {
+    double fx, fy, phase, amplitude;
+  };
+  std::vector<Wave> waves;
+  for (int i = 0; i < 48; ++i) {
+    const double f =
+        std::exp(std::log(1.0 / 256) + (std::log(1.0 / 5) - std::log(1.0 / 256)) * unit(rng));
+    const double angle = 2 * std::numbers::pi * unit(rng);
+    waves.push_back({f * std::cos(angle), f * std::sin(angle), 2 * std::numbers::pi * unit(rng),
+                     3.0 / std::sqrt(f) / 48.0 * 8.0});
+  }
+  const auto value = [&](double x, double y) {
+    double v = 128;
+    for (const auto& w : waves)
+      v += w.amplitude * std::cos(2 * std::numbers::pi * (w.fx * x + w.fy * y) + w.phase);
+    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+  };
+  left.resize(kWidth, kHeight, hal::PixelFormat::kGrey8);
+  right.resize(kWidth, kHeight, hal::PixelFormat::kGrey8);
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      left.row(y)[x] = value(x, y);
+      right.row(y)[x] = value(x + 3.3, y);
+    }
+  }
+}
+
+/// Median wall time of `run` in microseconds, after a warm-up, over `repeats` runs.
+double median_us(int repeats, const std::function<void()>& run) {
+  for (int i = 0; i < std::max(3, repeats / 10); ++i) run();
+  std::vector<double> samples;
+  samples.reserve(static_cast<std::size_t>(repeats));
+  for (int i = 0; i < repeats; ++i) {
+    const auto start = Clock::now();
+    run();
+    samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+  }
+  std::nth_element(samples.begin(), samples.begin() + repeats / 2, samples.end());
+  return samples[static_cast<std::size_t>(repeats / 2)];
+}
+
+struct SsmFigures {
+  double total_us = 0;
+  perception::SsmTimings parts;
+  float disparity_px = 0;
+  float confidence = 0;
+};
+
+SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
+                    const hal::Image& right, int repeats) {
+  perception::SensoryServo servo(config, kWidth, kHeight);
+  perception::SsmFrame frame = servo.make_frame();
+  const perception::PixelPoint centre{kWidth / 2, kHeight / 2};
+  const perception::FeatureRequest request;
+  std::vector<perception::SsmTimings> parts;
+  parts.reserve(static_cast<std::size_t>(repeats) * 2);
+  SsmFigures figures;
+  figures.total_us = median_us(repeats, [&] {
+    if (servo.process(left, right, centre, centre, request, frame) != hal::Status::kOk) {
+      throw std::runtime_error("SSM rejected the benchmark pair");
+    }
+    parts.push_back(frame.summary.timings);
+  });
+  const auto median_of = [&](double perception::SsmTimings::*field) {
+    std::vector<double> values;
+    for (const auto& p : parts) values.push_back(p.*field);
+    std::nth_element(values.begin(),
+                     values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    return values[values.size() / 2];
+  };
+  figures.parts = {median_of(&perception::SsmTimings::retina_us),
+                   median_of(&perception::SsmTimings::features_us),
+                   median_of(&perception::SsmTimings::disparity_us),
+                   median_of(&perception::SsmTimings::motion_us),
+                   median_of(&perception::SsmTimings::moments_us),
+                   median_of(&perception::SsmTimings::total_us)};
+  figures.disparity_px = frame.summary.disparity.disparity_px;
+  figures.confidence = frame.summary.disparity.confidence;
+  return figures;
+}
+
+/// The SSM's operator set on a whole image with OpenCV: per sigma the six Eq. 3-5 maps by
+/// cv::sepFilter2D plus their sum (LoG), Sobel x and y, and the 3x3 box, on a float copy.
+class FullImageFilter {
+ public:
+  explicit FullImageFilter(const perception::OperatorConfig& ops) {
+    for (const double sigma : ops.sigmas_px) {
+      const int s = perception::gaussian_half_width(sigma, ops.half_width_sigmas);
+      Family family;
+      family.order0 =
+          as_mat(perception::gaussian_derivative_kernel(0, perception::Axis::kX, sigma, s).row);
+      const auto first = perception::gaussian_derivative_kernel(1, perception::Axis::kX, sigma, s);
+      family.order1 = as_mat(first.row);
+      family.across = as_mat(first.column);
+      family.order2 =
+          as_mat(perception::gaussian_derivative_kernel(2, perception::Axis::kX, sigma, s).row);
+      families_.push_back(family);
+    }
+  }
+  void run(const hal::Image& image) {
+    const cv::Mat grey(image.height_px, image.width_px, CV_8U,
+                       const_cast<std::uint8_t*>(image.pixels.data()));
+    grey.convertTo(source_, CV_32F);
+    const cv::Mat one = cv::Mat::ones(1, 1, CV_32F);
+    for (const auto& f : families_) {
+      // filter2D-family functions correlate; the masks are flipped to convolve (Eq. 2).
+      cv::sepFilter2D(source_, out_[0], CV_32F, flip(f.order0), one);
+      cv::sepFilter2D(source_, out_[1], CV_32F, one, flip(f.order0));
+      cv::sepFilter2D(source_, out_[2], CV_32F, flip(f.order1), f.across);
+      cv::sepFilter2D(source_, out_[3], CV_32F, f.across, flip(f.order1));
+      cv::sepFilter2D(source_, out_[4], CV_32F, f.order2, f.across);
+      cv::sepFilter2D(source_, out_[5], CV_32F, f.across, f.order2);
+      cv::add(out_[4], out_[5], out_[6]);
+    }
+    cv::Sobel(source_, out_[7], CV_32F, 1, 0, 3);
+    cv::Sobel(source_, out_[8], CV_32F, 0, 1, 3);
+    cv::blur(source_, out_[9], cv::Size(3, 3));
+  }
+
+ private:
+  struct Family {
+    cv::Mat order0, order1, order2, across;
+  };
+  static cv::Mat as_mat(const std::vector<double>& taps) {
+    cv::Mat mat(static_cast<int>(taps.size()), 1, CV_32F);
+    for (std::size_t i = 0; i < taps.size(); ++i)
+      mat.at<float>(static_cast<int>(i)) = static_cast<float>(taps[i]);
+    return mat;
+  }
+  static cv::Mat flip(const cv::Mat& taps) {
+    cv::Mat flipped;
+    cv::flip(taps, flipped, 0);
+    return flipped;
+  }
+  std::vector<Family> families_;
+  cv::Mat source_;
+  std::array<cv::Mat, 10> out_;
+};
+
+}  // namespace
+
+int run_perception_bench_command(std::span<const std::string> args) {
+  ArgumentParser parser("perception-bench", "[--json] [--repeats N]");
+  parser.flag("json", "print one JSON object with the medians and ratios")
+      .option("repeats", "N",
+              "timed runs per figure (default 300; the 64x64 SSM and OpenCV use N/5)");
+  if (!parser.parse(args)) return kExitOk;
+  const int repeats = static_cast<int>(std::max(5LL, parser.integer("repeats", 300)));
+  // One thread everywhere: the SSM is one loop on one core, so OpenCV gets one core too.
+  cv::setNumThreads(1);
+
+  hal::Image left;
+  hal::Image right;
+  make_pair(left, right);
+
+  perception::SsmConfig paper;  // 4 x 16 x 16, sigmas 1.4, 2.7, 4, s = ceil(3 sigma)
+  perception::SsmConfig wide = paper;
+  wide.retina.width_px = 64;
+  wide.retina.height_px = 64;
+  const SsmFigures ssm_paper = time_ssm(paper, left, right, repeats);
+  const SsmFigures ssm_64 = time_ssm(wide, left, right, std::max(5, repeats / 5));
+
+  hal::Image left_copy = left;
+  hal::Image right_copy = right;
+  const double memcpy_us = median_us(repeats, [&] {
+    std::memcpy(left_copy.pixels.data(), left.pixels.data(), left.pixels.size());
+    std::memcpy(right_copy.pixels.data(), right.pixels.data(), right.pixels.size());
+    asm volatile("" : : "r"(left_copy.pixels.data()), "r"(right_copy.pixels.data()) : "memory");
+  });
+
+  FullImageFilter full(paper.operators);
+  const double opencv_filter_us = median_us(std::max(5, repeats / 5), [&] {
+    full.run(left);
+    full.run(right);
+  });
+
+  const cv::Mat left_mat(kHeight, kWidth, CV_8U, left.pixels.data());
+  const cv::Mat right_mat(kHeight, kWidth, CV_8U, right.pixels.data());
+  cv::Ptr<cv::StereoBM> matcher = cv::StereoBM::create(64, 15);
+  cv::Mat disparity;
+  const double stereo_bm_us = median_us(std::max(5, repeats / 5),
+                                        [&] { matcher->compute(left_mat, right_mat, disparity); });
+
+  const double paper_vs_filter = opencv_filter_us / ssm_paper.total_us;
+  const double paper_vs_memcpy = ssm_paper.total_us / memcpy_us;
+  const double wide_vs_filter = opencv_filter_us / ssm_64.total_us;
+  const double wide_vs_memcpy = ssm_64.total_us / memcpy_us;
+  if (parser.flag_set("json")) {
+    std::printf(
+        "{\"image\": \"640x480 grey stereo pair\", \"threads\": 1, \"repeats\": %d,\n"
+        " \"ssm_paper_us\": %.2f, \"ssm_64_us\": %.2f, \"memcpy_us\": %.2f,\n"
+        " \"opencv_full_filter_us\": %.1f, \"opencv_stereo_bm_us\": %.1f,\n"
+        " \"opencv_full_filter_over_ssm_paper\": %.1f, \"ssm_paper_over_memcpy\": %.2f,\n"
+        " \"opencv_full_filter_over_ssm_64\": %.1f, \"ssm_64_over_memcpy\": %.2f,\n"
+        " \"opencv_stereo_bm_over_ssm_paper\": %.1f,\n"
+        " \"ssm_paper_parts_us\": {\"retina\": %.2f, \"features\": %.2f, \"disparity\": %.2f, "
+        "\"motion\": %.2f, \"moments\": %.2f},\n"
+        " \"ssm_64_parts_us\": {\"retina\": %.2f, \"features\": %.2f, \"disparity\": %.2f, "
+        "\"motion\": %.2f, \"moments\": %.2f},\n"
+        " \"ssm_paper_disparity_px\": %.3f, \"ssm_64_disparity_px\": %.3f, \"true_disparity_px\": "
+        "3.3}\n",
+        repeats, ssm_paper.total_us, ssm_64.total_us, memcpy_us, opencv_filter_us, stereo_bm_us,
+        paper_vs_filter, paper_vs_memcpy, wide_vs_filter, wide_vs_memcpy,
+        stereo_bm_us / ssm_paper.total_us, ssm_paper.parts.retina_us, ssm_paper.parts.features_us,
+        ssm_paper.parts.disparity_us, ssm_paper.parts.motion_us, ssm_paper.parts.moments_us,
+        ssm_64.parts.retina_us, ssm_64.parts.features_us, ssm_64.parts.disparity_us,
+        ssm_64.parts.motion_us, ssm_64.parts.moments_us,
+        static_cast<double>(ssm_paper.disparity_px), static_cast<double>(ssm_64.disparity_px));
+    return kExitOk;
+  }
+  std::printf("perception-bench: 640x480 grey stereo pair, one thread, medians per pair\n");
+  std::printf(
+      "  SSM 4 x 16 x 16 (paper)     %10.1f us   (retina %.1f, features %.1f, disparity %.1f, "
+      "motion %.1f, moments %.1f)\n",
+      ssm_paper.total_us, ssm_paper.parts.retina_us, ssm_paper.parts.features_us,
+      ssm_paper.parts.disparity_us, ssm_paper.parts.motion_us, ssm_paper.parts.moments_us);
+  std::printf(
+      "  SSM 4 x 64 x 64             %10.1f us   (retina %.1f, features %.1f, disparity %.1f, "
+      "motion %.1f, moments %.1f)\n",
+      ssm_64.total_us, ssm_64.parts.retina_us, ssm_64.parts.features_us, ssm_64.parts.disparity_us,
+      ssm_64.parts.motion_us, ssm_64.parts.moments_us);
+  std::printf("  memcpy of both images       %10.1f us\n", memcpy_us);
+  std::printf("  OpenCV full-image filters   %10.1f us   (same operator set, cv::sepFilter2D)\n",
+              opencv_filter_us);
+  std::printf("  OpenCV StereoBM full pair   %10.1f us\n", stereo_bm_us);
+  std::printf("  paper SSM: %.0fx faster than full-image filtering, %.2fx a memcpy\n",
+              paper_vs_filter, paper_vs_memcpy);
+  std::printf("  64x64 SSM: %.0fx faster than full-image filtering, %.2fx a memcpy\n",
+              wide_vs_filter, wide_vs_memcpy);
+  std::printf("  disparity at the fovea: %.3f px (paper), %.3f px (64x64); true 3.3 px\n",
+              static_cast<double>(ssm_paper.disparity_px),
+              static_cast<double>(ssm_64.disparity_px));
+  return kExitOk;
+}
+
+}  // namespace cambio::app

@@ -122,6 +122,12 @@ void EglContext::make_current() {
   }
 }
 
+void EglContext::release() {
+  if (eglGetCurrentContext() == context_) {
+    eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  }
+}
+
 std::string EglContext::renderer_name() {
   make_current();
   const auto* name = glGetString(GL_RENDERER);

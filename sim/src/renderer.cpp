@@ -36,6 +36,7 @@ Renderer::Renderer(const World& world)
     mj_deleteData(data_);
     throw;
   }
+  egl_.release();
   near_m_ = model->vis.map.znear * model->stat.extent;
   far_m_ = model->vis.map.zfar * model->stat.extent;
 }
@@ -58,6 +59,7 @@ void Renderer::set_state(const WorldSnapshot& snapshot) noexcept {
   mj_camlight(model, data_);
   state_step_ = snapshot.step;
   state_stamp_ns_ = snapshot.stamp_ns;
+  has_state_ = true;
 }
 
 void Renderer::apply_view(const ViewOptions& view) {
@@ -85,6 +87,9 @@ bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOpti
     const mjrRect viewport{0, 0, width_px, height_px};
     mjr_render(viewport, scene_.get(), context_.get());
     mjr_readPixels(rgb, depth, viewport, context_.get());
+    // The loops that render (camera loop, ground truth) may run on different threads; a GL
+    // context is bound to one thread at a time, so it is handed back after every view.
+    egl_.release();
     if (depth != nullptr) {
       // OpenGL depth d in [0, 1] of a perspective projection with planes n and f; the metric
       // depth along the optical axis is z = n f / (f - d (f - n)).
@@ -98,6 +103,7 @@ bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOpti
     }
     return true;
   } catch (...) {
+    egl_.release();
     return false;
   }
 }
@@ -114,6 +120,7 @@ void Renderer::render_raw_reference(int camera_id, int width_px, int height_px, 
   const mjrRect viewport{0, 0, width_px, height_px};
   mjr_render(viewport, scene_.get(), context_.get());
   mjr_readPixels(rgb, nullptr, viewport, context_.get());
+  egl_.release();
 }
 
 }  // namespace cambio::sim

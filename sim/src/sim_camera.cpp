@@ -57,7 +57,10 @@ hal::Status SimCamera::grab(hal::Image& out) {
     std::lock_guard<std::mutex> lock(renderer_.mutex());
     // Move the renderer on only once this camera has seen its current state, so both eyes of a
     // cycle render the same instant.
-    if (!rendered_once_ || rendered_step_ == renderer_.state_step()) {
+    // A camera that never rendered takes the renderer's state as it is (its stereo partner may
+    // just have rendered it), unless the renderer has none yet.
+    const bool seen_current = rendered_once_ && rendered_step_ == renderer_.state_step();
+    if (seen_current || !renderer_.has_state()) {
       if (snapshots_.acquire()) renderer_.set_state(snapshots_.front());
     }
     if (rendered_once_ && rendered_step_ == renderer_.state_step()) return hal::Status::kNoNewData;

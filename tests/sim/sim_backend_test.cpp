@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "cambio/runtime/lockstep_executor.hpp"
+#include "cambio/runtime/realtime_executor.hpp"
 #include "sim_test_support.hpp"
 
 namespace cambio::sim {
@@ -154,6 +155,42 @@ TEST(SimDeterminismTest, SameSeedGivesTheSameJointTrajectoryAndImages) {
   // The sim side of every loop allocates nothing after configure.
   EXPECT_EQ(a.physics_allocations, 0u);
   EXPECT_EQ(a.camera_allocations, 0u);
+}
+
+TEST(SimRealtimeTest, RunsUnderTheRealtimeExecutorWithCamerasOnTheirOwnThread) {
+  auto rig = testing::load_shipped_rig();
+  for (auto& camera : rig.cameras) {
+    camera.width_px = 160;
+    camera.height_px = 120;
+    camera.focal_x_px = camera.focal_y_px = 138.564;
+    camera.principal_x_px = 79.5;
+    camera.principal_y_px = 59.5;
+  }
+  hal::BackendOptions options;
+  options.realtime = true;
+  SimBackend backend(rig, testing::load_shipped_scene("vergence"), options);
+  EXPECT_EQ(backend.manual_clock(), nullptr);
+  std::vector<std::unique_ptr<hal::JointGroup>> groups;
+  groups.push_back(backend.make_joint_group("head"));
+  ExerciseLoop joint_loop(std::move(groups), 1000);
+  StereoLoop camera_loop(backend.make_camera("left_eye"), backend.make_camera("right_eye"), 100);
+  auto physics = backend.loops().front();
+  std::vector<runtime::ScheduledLoop> loops = {
+      {physics.loop, config::LoopConfig{"physics", physics.rate_hz, 0, -1, {}}},
+      {&joint_loop, config::LoopConfig{"joint", 1000.0, 0, -1, {}}},
+      {&camera_loop, config::LoopConfig{"camera", 20.0, 0, -1, {}}},
+  };
+  runtime::RealtimeExecutor executor(backend.clock(), loops, runtime::RealtimeOptions{});
+  std::atomic<bool> stop{false};
+  (void)executor.run(stop, 500'000'000, false);
+  for (const auto& stats : executor.statistics()) {
+    EXPECT_EQ(stats.failed_updates, 0u) << stats.name;
+    EXPECT_GT(stats.cycles, 0u) << stats.name;
+  }
+  EXPECT_GT(camera_loop.hashes().size(), 2u) << "both eyes grabbed on the camera thread";
+  // Ground truth renders from this thread after the camera thread used the GL context.
+  hal::Image rgb;
+  EXPECT_NO_THROW(backend.ground_truth().render("left_eye", 0, 0, ViewOptions{}, rgb, nullptr));
 }
 
 TEST(SimDeterminismTest, DifferentSeedGivesDifferentNoise) {

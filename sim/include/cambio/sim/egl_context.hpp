@@ -18,6 +18,9 @@ class EglContext {
   /// Makes the context current on the calling thread if it is not already. A context is
   /// current on one thread at a time: callers serialise (the renderer holds a mutex).
   void make_current();
+  /// Unbinds the context from the calling thread (if bound there), so another thread can take
+  /// it.
+  void release();
   /// GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
   std::string renderer_name();
 

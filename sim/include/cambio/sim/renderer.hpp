@@ -45,6 +45,8 @@ class Renderer {
   /// Step count of the snapshot last set (so cameras can tell whether they saw it).
   std::uint64_t state_step() const { return state_step_; }
   std::int64_t state_stamp_ns() const { return state_stamp_ns_; }
+  /// False until the first set_state() (the renderer then shows the world at construction).
+  bool has_state() const { return has_state_; }
 
   /// Renders MuJoCo camera `camera_id` at width x height into the offscreen buffer and reads
   /// it back: `rgb` (3 bytes per pixel) and/or `depth` (metres along the optical axis), both
@@ -78,6 +80,7 @@ class Renderer {
   std::unique_ptr<mjrContext_> context_;
   std::uint64_t state_step_ = 0;
   std::int64_t state_stamp_ns_ = 0;
+  bool has_state_ = false;
   double near_m_ = 0.0;
   double far_m_ = 0.0;
 };

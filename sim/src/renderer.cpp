@@ -68,6 +68,7 @@ void Renderer::apply_view(const ViewOptions& view) {
     option_->sitegroup[group] = 0;  // Sites are markers for the sim, never seen.
   }
   option_->geomgroup[kHiddenFromEyesGeomGroup] = view.show_head ? 1 : 0;
+  option_->geomgroup[kEyeSkyGeomGroup] = view.skybox ? 0 : 1;
   scene_->flags[mjRND_SHADOW] = view.shadows ? 1 : 0;
   scene_->flags[mjRND_REFLECTION] = view.reflections ? 1 : 0;
   scene_->flags[mjRND_SKYBOX] = view.skybox ? 1 : 0;

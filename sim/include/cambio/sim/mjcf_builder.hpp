@@ -35,6 +35,8 @@ struct MjcfOptions {
 /// is drawn only by third-person views, so an eye never sees its own housing.
 inline constexpr int kSceneGeomGroup = 0;
 inline constexpr int kRobotGeomGroup = 1;
+/// The eyes' cheap sky planes; third-person views draw MuJoCo's skybox instead.
+inline constexpr int kEyeSkyGeomGroup = 2;
 inline constexpr int kHiddenFromEyesGeomGroup = 3;
 
 /// Name of the third-person camera generated from the scene's overview_camera.

@@ -21,7 +21,9 @@ struct ViewOptions {
   bool shadows = false;
   bool reflections = false;
   bool show_head = false;  ///< Draw geom group 3 (the camera-carrying head); third-person only.
-  bool skybox = true;
+  /// MuJoCo's skybox instead of the eyes' flat sky planes: prettier, about 10 ms more per
+  /// 640x480 frame on llvmpipe. For third-person views.
+  bool skybox = false;
 };
 
 /// MuJoCo's OpenGL renderer on a headless EGL context, with its own copy of the world state

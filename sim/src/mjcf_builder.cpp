@@ -247,7 +247,8 @@ class Builder {
         << "    <light name=\"fill\" directional=\"true\" pos=\"-1 1 4\" dir=\"0.5 -0.3 -1\" "
            "diffuse=\"0.25 0.25 0.27\" specular=\"0 0 0\" castshadow=\"false\"/>\n";
     if (scene_.floor) {
-      xml << "    <geom name=\"floor\" type=\"plane\" size=\"0 0 0.05\" material=\"floor\" "
+      // Drawn out to the sky planes (it collides as an infinite half-space regardless).
+      xml << "    <geom name=\"floor\" type=\"plane\" size=\"25 25 0.05\" material=\"floor\" "
              "group=\""
           << kSceneGeomGroup << "\"/>\n";
     }

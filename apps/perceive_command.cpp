@@ -331,7 +331,8 @@ int run_perceive_command(std::span<const std::string> args) {
          << ", \"texture_rms\": " << number(l.texture_rms)
          << ", \"at_range_edge\": " << (l.at_range_edge ? "true" : "false")
          << ", \"search_level_px\": [" << l.search_min_px << ", " << l.search_max_px
-         << "]},\n     \"moments\": {\"map\": " << json_string(config.moments.map)
+         << "], \"moved_windows\": " << l.moved_windows
+         << "},\n     \"moments\": {\"map\": " << json_string(config.moments.map)
          << ", \"left\": " << moments_json(s.moments[0][static_cast<std::size_t>(k)])
          << ", \"right\": " << moments_json(s.moments[1][static_cast<std::size_t>(k)]) << "}}"
          << (k + 1 < s.levels ? "," : "") << "\n";

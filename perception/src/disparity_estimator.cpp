@@ -21,16 +21,21 @@ DisparityEstimator::DisparityEstimator(const DisparityConfig& config, const Oper
   if (2 * half_ + 1 > width) {
     throw std::invalid_argument("disparity window is wider than the retina");
   }
-  scores_.assign(static_cast<std::size_t>(2 * width + 1), 0.0f);
+  // The widest search: the coarsest level's range at block size 1, or a refinement (<= width),
+  // plus refine_range_px shifts of extension on each side.
+  scores_.assign(static_cast<std::size_t>(
+                     2 * std::max(width, static_cast<int>(std::ceil(config.search_range_px))) +
+                     4 * std::max(config.refine_range_px, 0) + 1),
+                 0.0f);
 }
 
-float DisparityEstimator::left_texture(const FeatureMaps& left, int level) const noexcept {
+float DisparityEstimator::left_texture(const float* left) const noexcept {
   const int cx = width_ / 2;
   const int cy = height_ / 2;
   const int n = (2 * half_ + 1) * (2 * half_y_ + 1);
   double variance = 0.0;
   for (const int f : features_) {
-    const float* map = left.map(level, f);
+    const float* map = plane(left, f);
     double sum = 0.0;
     double sum_sq = 0.0;
     for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
@@ -46,8 +51,7 @@ float DisparityEstimator::left_texture(const FeatureMaps& left, int level) const
   return static_cast<float>(std::sqrt(variance / static_cast<double>(features_.size())));
 }
 
-float DisparityEstimator::score(const FeatureMaps& left, const FeatureMaps& right, int level,
-                                int shift) const noexcept {
+float DisparityEstimator::score(const float* left, const float* right, int shift) const noexcept {
   const int cx = width_ / 2;
   const int cy = height_ / 2;
   const int w = 2 * half_ + 1;
@@ -56,8 +60,8 @@ float DisparityEstimator::score(const FeatureMaps& left, const FeatureMaps& righ
   double left_energy = 0.0;
   double right_energy = 0.0;
   for (const int f : features_) {
-    const float* l = left.map(level, f);
-    const float* r = right.map(level, f);
+    const float* l = plane(left, f);
+    const float* r = plane(right, f);
     float sl = 0.0f, sr = 0.0f, sll = 0.0f, srr = 0.0f, slr = 0.0f;
     for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
       const float* lr = l + y * width_ + cx - half_;
@@ -80,7 +84,8 @@ float DisparityEstimator::score(const FeatureMaps& left, const FeatureMaps& righ
 
 void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& right,
                                   const Retina& left_retina, const Retina& right_retina,
-                                  DisparityResult& out) const noexcept {
+                                  DisparityResult& out,
+                                  ShiftedLevelSource* shifted) const noexcept {
   out = DisparityResult{};
   out.levels = left_retina.levels();
   const int cx = width_ / 2;
@@ -89,38 +94,89 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
   const int shift_max = cx - half_;
   bool have_estimate = false;
   double estimate_px = 0.0;
+  int coarser_scale = 0;
   for (int k = left_retina.levels() - 1; k >= 0; --k) {
     LevelDisparity& level = out.per_level[static_cast<std::size_t>(k)];
     const int scale = left_retina.level(k).scale_px;
     level.scale_px = scale;
     if (right_retina.level(k).scale_px != scale) continue;  // Field-covering levels that differ.
+    const float* left_maps = left.level(k);
     int lo = 0;
     int hi = 0;
     if (!have_estimate) {
       const int range = static_cast<int>(std::ceil(config_.search_range_px / scale));
-      lo = std::max(shift_min, -range);
-      hi = std::min(shift_max, range);
+      lo = -range;
+      hi = range;
     } else {
+      // refine_range_px finer px around the estimate for an octave step; a field-covering
+      // coarsest level can be many octaves coarser, and its uncertainty grows with the ratio.
+      const int ratio = std::max(1, coarser_scale / scale);
+      const int range = std::min(
+          std::max(config_.refine_range_px, (config_.refine_range_px * ratio + 1) / 2), width_);
       const int centre = static_cast<int>(std::lround(estimate_px / scale));
-      lo = std::max(shift_min, centre - config_.refine_range_px);
-      hi = std::min(shift_max, centre + config_.refine_range_px);
+      lo = centre - range;
+      hi = centre + range;
+    }
+    // The coarsest search stays inside the overlap (moving a coarse window costs a large source
+    // footprint); refinements may move the right window, if there is a source for it.
+    if (!have_estimate || shifted == nullptr) {
+      lo = std::max(lo, shift_min);
+      hi = std::min(hi, shift_max);
     }
     // The coarser estimate does not fit this level's overlap of the two retinas: keep it.
     if (lo > hi) break;
+    level.texture_rms = left_texture(left_maps);
+    if (level.texture_rms < config_.min_texture_rms) {
+      level.searched = true;
+      level.search_min_px = lo;
+      level.search_max_px = hi;
+      continue;
+    }
+
+    // Shifts beyond the overlap move the right window (by `window` level px) so that the shift
+    // scored against it, d - window, is inside [shift_min, shift_max]; moved windows sample the
+    // same block grid, so every score is the same ZNCC as with a wider right retina.
+    const float* right_maps = right.level(k);
+    int window = 0;
+    const int base = lo - config_.refine_range_px;  // scores_[d - base]; room to extend below.
+    const auto score_shift = [&](int d) {
+      if (d - window < shift_min || d - window > shift_max) {
+        const bool inside = d >= shift_min && d <= shift_max;
+        const float* maps = inside               ? right.level(k)
+                            : shifted != nullptr ? shifted->shifted_right_level(k, d - shift_min)
+                                                 : nullptr;
+        if (maps == nullptr) return false;
+        right_maps = maps;
+        window = inside ? 0 : d - shift_min;
+        if (!inside) ++level.moved_windows;
+      }
+      scores_[static_cast<std::size_t>(d - base)] = score(left_maps, right_maps, d - window);
+      return true;
+    };
+    const auto at = [this, base](int d) { return scores_[static_cast<std::size_t>(d - base)]; };
+    int best = lo;
+    for (int d = lo; d <= hi; ++d) {
+      if (!score_shift(d)) {
+        hi = d - 1;
+        break;
+      }
+      if (at(d) > at(best)) best = d;
+    }
+    if (lo > hi) break;
+    // A refinement whose best match sits on its range's edge may be a coarser estimate that was
+    // off by a little more than the range allows: extend towards it, up to refine_range_px more
+    // shifts, while the scores keep rising.
+    if (have_estimate) {
+      for (int step = 0; step < config_.refine_range_px && (best == lo || best == hi); ++step) {
+        const int d = best == hi ? hi + 1 : lo - 1;
+        if (!score_shift(d)) break;
+        (d > hi ? hi : lo) = d;
+        if (at(d) > at(best)) best = d;
+      }
+    }
     level.searched = true;
     level.search_min_px = lo;
     level.search_max_px = hi;
-    level.texture_rms = left_texture(left, k);
-    if (level.texture_rms < config_.min_texture_rms) continue;
-
-    int best = lo;
-    for (int d = lo; d <= hi; ++d) {
-      scores_[static_cast<std::size_t>(d + width_)] = score(left, right, k, d);
-      if (scores_[static_cast<std::size_t>(d + width_)] >
-          scores_[static_cast<std::size_t>(best + width_)])
-        best = d;
-    }
-    const auto at = [this](int d) { return scores_[static_cast<std::size_t>(d + width_)]; };
     const float peak = at(best);
     float second = -1.0f;
     for (int d = lo; d <= hi; ++d) {
@@ -152,6 +208,7 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
     }
     have_estimate = true;
     estimate_px = level.disparity_px;
+    coarser_scale = scale;
     out.valid = true;
     out.disparity_px = level.disparity_px;
     out.confidence = level.confidence;

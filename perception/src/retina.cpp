@@ -99,6 +99,22 @@ hal::Status Retina::build(const hal::Image& image, PixelPoint fixation) noexcept
   return hal::Status::kOk;
 }
 
+hal::Status Retina::build_one_level(const hal::Image& image, int k, PixelPoint fixation) noexcept {
+  if (image.empty() || image.width_px <= 0 || image.height_px <= 0 || k < 0 || k >= levels()) {
+    return hal::Status::kRejected;
+  }
+  if (image.format == hal::PixelFormat::kRgb8 &&
+      static_cast<std::size_t>(image.width_px) > luma_row_.size()) {
+    return hal::Status::kRejected;
+  }
+  Level& level = levels_[static_cast<std::size_t>(k)];
+  level.scale_px = scale_of(k, image.width_px, image.height_px, fixation);
+  level.origin_x_px = fixation.x - (width_ / 2) * level.scale_px;
+  level.origin_y_px = fixation.y - (height_ / 2) * level.scale_px;
+  build_level(image, level);
+  return hal::Status::kOk;
+}
+
 void Retina::build_level(const hal::Image& image, Level& level) noexcept {
   const int b = level.scale_px;
   const int padded_w = width_ + 2 * apron_;

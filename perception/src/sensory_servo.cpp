@@ -35,6 +35,10 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
   for (auto& retina : retinas_) {
     retina = std::make_unique<Retina>(config.retina, apron, image_width_px, image_height_px);
   }
+  shifted_right_ = std::make_unique<ShiftedRight>(
+      *this, std::make_unique<Retina>(config.retina, apron, image_width_px, image_height_px),
+      FeatureMaps(config.retina.levels, bank_.map_count(), config.retina.width_px,
+                  config.retina.height_px));
   moments_map_ = bank_.find(config.moments.map);
   if (moments_map_ < 0) {
     throw std::invalid_argument("moments map '" + config.moments.map + "' is not a feature map");
@@ -42,6 +46,21 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
 }
 
 SensoryServo::~SensoryServo() = default;
+
+const float* SensoryServo::ShiftedRight::shifted_right_level(int k, int offset_px) noexcept {
+  if (image_ == nullptr) return nullptr;
+  const Retina& right = *servo_.retinas_[1];
+  const int scale = right.level(k).scale_px;
+  const PixelPoint moved{fixation_.x - offset_px * scale, fixation_.y};
+  // A field-covering level changes its block size with the fixation; its samples would no
+  // longer line up with the left level's.
+  if (retina_->build_one_level(*image_, k, moved) != hal::Status::kOk ||
+      retina_->level(k).scale_px != scale) {
+    return nullptr;
+  }
+  servo_.bank_.apply(retina_->level(k), servo_.disparity_.required_maps(), maps_.level(k));
+  return maps_.level(k);
+}
 
 SsmFrame SensoryServo::make_frame() const {
   SsmFrame frame;
@@ -104,7 +123,9 @@ hal::Status SensoryServo::process(const hal::Image& left, const hal::Image& righ
 
   summary.disparity = DisparityResult{};
   if (request.disparity && config_.disparity.enabled) {
-    disparity_.estimate(out.maps[0], out.maps[1], *retinas_[0], *retinas_[1], summary.disparity);
+    shifted_right_->prepare(right, right_fixation);
+    disparity_.estimate(out.maps[0], out.maps[1], *retinas_[0], *retinas_[1], summary.disparity,
+                        shifted_right_.get());
   }
   const auto disparity_done = SteadyClock::now();
 

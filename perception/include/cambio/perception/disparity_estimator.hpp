@@ -20,8 +20,11 @@ struct LevelDisparity {
   float peak_score = 0.0f;     ///< Zero-mean normalised cross-correlation at the best shift.
   float texture_rms = 0.0f;    ///< Rms deviation of the left window's features.
   int scale_px = 1;
-  int search_min_px = 0;  ///< Searched shifts, level px.
+  int search_min_px = 0;  ///< Searched shifts, level px (window offset included).
   int search_max_px = 0;
+  /// Right windows moved (ShiftedLevelSource) to score shifts beyond the overlap of the two
+  /// retinas as built; 0 when the search fitted.
+  int moved_windows = 0;
 };
 
 /// Disparity of the retinas' centres. disparity_px = x_left - x_right of the same scene point in
@@ -37,14 +40,28 @@ struct DisparityResult {
   std::array<LevelDisparity, Retina::kMaxLevels> per_level{};
 };
 
+/// Right-eye levels with a moved window, for finer levels whose coarser estimate lies beyond
+/// the overlap of the two retinas as built (the SSM implements it from the right image).
+class ShiftedLevelSource {
+ public:
+  virtual ~ShiftedLevelSource() = default;
+  /// Right level k rebuilt with its fixation moved `offset_px` level px to the left (sample x
+  /// then holds what sample x - offset_px would), with at least the estimator's required maps
+  /// computed, laid out as FeatureMaps::level(k). nullptr if it cannot be built. Real-time safe.
+  virtual const float* shifted_right_level(int k, int offset_px) noexcept = 0;
+};
+
 /// Coarse-to-fine correlation of second-order Gaussian-derivative maps (paper Section 3: "a
 /// simple correlation approach is used over the above second order Gaussian derivative,
 /// considering estimations given by previous levels"). The coarsest level searches the
 /// configured range; each finer level searches +- refine_range_px around the coarser estimate
-/// scaled up. The score is the zero-mean normalised cross-correlation of a (2h+1)^2 window at
-/// the centre, summed over the configured maps; a parabola through the best score and its two
-/// neighbours gives the sub-pixel shift. Untextured windows (rms feature deviation below
-/// min_texture_rms) are invalid rather than guessed.
+/// scaled up (wider after a field-covering level many octaves coarser). Shifts beyond the
+/// overlap of the two retinas (a 16-px fovea with a 9-px window holds -3 .. +4 px) are scored
+/// against right windows moved through a ShiftedLevelSource, so every level refines whatever
+/// disparity the coarser level found. The score is the zero-mean normalised cross-correlation of a
+/// (2h+1)^2 window at the centre, summed over the configured maps; a parabola through the best
+/// score and its two neighbours gives the sub-pixel shift. Untextured windows (rms feature
+/// deviation below min_texture_rms) are invalid rather than guessed.
 class DisparityEstimator {
  public:
   /// Throws std::invalid_argument when a feature name is not in `bank` or the window does not fit.
@@ -56,14 +73,19 @@ class DisparityEstimator {
   int window_half_px() const { return half_; }
 
   /// Real-time safe; not thread-safe (scratch). Retinas give each level's block size.
+  /// Without `shifted`, a level whose refinement range leaves the overlap stops the descent.
   void estimate(const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
-                const Retina& right_retina, DisparityResult& out) const noexcept;
+                const Retina& right_retina, DisparityResult& out,
+                ShiftedLevelSource* shifted = nullptr) const noexcept;
 
  private:
-  /// ZNCC of the left window against the right window shifted by `shift` level px.
-  float score(const FeatureMaps& left, const FeatureMaps& right, int level,
-              int shift) const noexcept;
-  float left_texture(const FeatureMaps& left, int level) const noexcept;
+  /// ZNCC of the left window against the right window shifted by `shift` level px; both
+  /// arguments point at one level's planes (FeatureMaps::level layout).
+  float score(const float* left, const float* right, int shift) const noexcept;
+  float left_texture(const float* left) const noexcept;
+  const float* plane(const float* level, int map) const {
+    return level + static_cast<std::ptrdiff_t>(map) * width_ * height_;
+  }
 
   DisparityConfig config_;
   std::vector<int> features_;
@@ -72,7 +94,7 @@ class DisparityEstimator {
   int height_ = 0;
   int half_ = 0;
   int half_y_ = 0;
-  mutable std::vector<float> scores_;  ///< Indexed by shift + width.
+  mutable std::vector<float> scores_;  ///< Indexed by shift - lowest shift searched.
 };
 
 }  // namespace cambio::perception

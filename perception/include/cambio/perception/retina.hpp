@@ -70,6 +70,11 @@ class Retina {
   /// Real-time safe: no allocation. kRejected for an empty image.
   hal::Status build(const hal::Image& image, PixelPoint fixation) noexcept;
 
+  /// Builds level k alone at `fixation`; the other levels and fixation() keep what they held
+  /// (a scratch retina whose window follows a disparity estimate). Real-time safe; kRejected
+  /// for an empty image or k out of range.
+  hal::Status build_one_level(const hal::Image& image, int k, PixelPoint fixation) noexcept;
+
   int levels() const { return static_cast<int>(levels_.size()); }
   int width() const { return width_; }
   int height() const { return height_; }

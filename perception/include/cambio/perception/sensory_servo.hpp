@@ -105,8 +105,29 @@ class SensoryServo {
   DisparityEstimator disparity_;
   std::array<std::unique_ptr<Retina>, 2> retinas_;
   std::array<std::unique_ptr<MotionEstimator>, 2> motion_;
+  /// Right levels rebuilt around a coarser disparity estimate (DisparityEstimator's
+  /// ShiftedLevelSource), into a scratch retina and maps so the frame's right maps stay as seen.
+  class ShiftedRight final : public ShiftedLevelSource {
+   public:
+    ShiftedRight(const SensoryServo& servo, std::unique_ptr<Retina> retina, FeatureMaps maps)
+        : servo_(servo), retina_(std::move(retina)), maps_(std::move(maps)) {}
+    void prepare(const hal::Image& image, PixelPoint fixation) noexcept {
+      image_ = &image;
+      fixation_ = fixation;
+    }
+    const float* shifted_right_level(int k, int offset_px) noexcept override;
+
+   private:
+    const SensoryServo& servo_;
+    std::unique_ptr<Retina> retina_;
+    FeatureMaps maps_;
+    const hal::Image* image_ = nullptr;
+    PixelPoint fixation_;
+  };
+
   int moments_map_ = 0;
   std::uint64_t sequence_ = 0;
+  std::unique_ptr<ShiftedRight> shifted_right_;
 };
 
 }  // namespace cambio::perception

@@ -175,9 +175,9 @@ class Builder {
         << "  </default>\n";
   }
 
-  int add_texture(std::ostringstream& assets, const std::string& name,
-                  const config::TextureConfig& texture, const std::array<double, 3>& rgb,
-                  bool tiled, double extent_m) {
+  void add_texture(std::ostringstream& assets, const std::string& name,
+                   const config::TextureConfig& texture, const std::array<double, 3>& rgb,
+                   bool tiled, double extent_m) {
     int size_px = 0;
     double feature_px = kTexelsPerFeature;
     if (tiled) {
@@ -193,7 +193,6 @@ class Builder {
            << "\" builtin=\"flat\" width=\"" << size_px << "\" height=\"" << size_px << "\" rgb1=\""
            << vec(rgb) << "\" rgb2=\"" << vec(rgb) << "\"/>\n";
     model_.textures.push_back({name, texture, rgb, feature_px});
-    return size_px;
   }
 
   void write_assets(std::ostringstream& xml) {

@@ -105,6 +105,7 @@ OperatorBank::OperatorBank(const OperatorConfig& config, int width, int height)
     family.order1 = Taps::from(first.row);
     family.across = Taps::from(first.column);
     family.order2 = Taps::from(gaussian_derivative_kernel(2, Axis::kX, sigma, s).row);
+    family.order0_over_across = family.order0.centre()[0] / family.across.centre()[0];
     family.first_map = find("g0x@" + sigma_label(sigma));
     family.laplacian_map = find("log@" + sigma_label(sigma));
     apron_ = std::max(apron_, s);
@@ -187,9 +188,14 @@ void OperatorBank::apply(const RetinaLevelView& level, MapMask request, float* o
     convolve_rows(top, level.stride, along2, width_, width_, rows, family.order2);
     convolve_rows(top, level.stride, across, width_, width_, rows, family.across);
     const std::ptrdiff_t centre = static_cast<std::ptrdiff_t>(s) * width_;
-    // Eq. 3: 1-D masks along d.
-    convolve_rows(level.interior, level.stride, map_out(out, first + 0), width_, width_, height_,
-                  family.order0);
+    // Eq. 3: 1-D masks along d. Along x, the order-0 mask is lambda e^(a t^2), the across pass
+    // scaled by lambda: its interior rows give g0x without another pass.
+    {
+      const float* source = across + centre;
+      float* g0x = map_out(out, first + 0);
+      const float factor = family.order0_over_across;
+      for (int i = 0; i < width_ * height_; ++i) g0x[i] = factor * source[i];
+    }
     convolve_columns(level.interior, level.stride, map_out(out, first + 1), width_, width_, height_,
                      family.order0);
     // Eq. 4-5: derivative along d times e^(a t^2) across d.

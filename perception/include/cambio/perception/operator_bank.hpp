@@ -64,11 +64,12 @@ class OperatorBank {
   struct GaussianFamily {
     double sigma_px = 0.0;
     int half_width = 0;
-    Taps order0;        ///< lambda e^(a t^2)
-    Taps order1;        ///< 2 a lambda e^(a t^2) t
-    Taps order2;        ///< 2 a lambda e^(a t^2) (2 a t^2 + 1)
-    Taps across;        ///< e^(a t^2), the unnormalised factor across d in Eq. 4-5
-    int first_map = 0;  ///< g0x, g0y, g1x, g1y, g2x, g2y follow in that order.
+    Taps order0;                      ///< lambda e^(a t^2)
+    Taps order1;                      ///< 2 a lambda e^(a t^2) t
+    Taps order2;                      ///< 2 a lambda e^(a t^2) (2 a t^2 + 1)
+    Taps across;                      ///< e^(a t^2), the unnormalised factor across d in Eq. 4-5
+    float order0_over_across = 1.0f;  ///< lambda: order0 = lambda * across.
+    int first_map = 0;                ///< g0x, g0y, g1x, g1y, g2x, g2y follow in that order.
     int laplacian_map = -1;
   };
   struct Mask {

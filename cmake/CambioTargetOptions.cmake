@@ -18,11 +18,15 @@ function(cambio_set_target_options target)
   endif()
 endfunction()
 
-# A library of this project: cambio_<name> with the alias cambio::<name>, exported for install.
+# A library of this project: cambio_<name> with the alias cambio::<name>; its public headers are
+# the folder's include/ (as <cambio/<name>/...>), in the build tree and in an install.
 function(cambio_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
   add_library(cambio_${name} ${ARG_SOURCES})
   add_library(cambio::${name} ALIAS cambio_${name})
   set_target_properties(cambio_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME cambio_${name})
   cambio_set_target_options(cambio_${name})
+  target_include_directories(cambio_${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 endfunction()

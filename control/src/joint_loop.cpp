@@ -74,9 +74,9 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
   // 2. Take the newest targets; hold position if they are missing or stale.
   JointTargetFrame targets;
   targets_.read(targets);
-  const bool fresh = targets_.version() > 0 && targets.count == joint_count_ &&
-                     static_cast<double>(tick.now_ns - targets.stamp_ns) * 1e-9 <=
-                         command_timeout_s_;
+  const bool fresh =
+      targets_.version() > 0 && targets.count == joint_count_ &&
+      static_cast<double>(tick.now_ns - targets.stamp_ns) * 1e-9 <= command_timeout_s_;
   if (!fresh) ++stale_cycles_;
 
   for (std::size_t j = 0; j < static_cast<std::size_t>(joint_count_); ++j) {
@@ -87,15 +87,15 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
     } else {
       command = targets.commands[j];
     }
+    // A non-finite target becomes "hold"; positions and velocities are clamped to the limits.
+    (void)hal::clamp_command(command, limits);
     if (command.mode == hal::CommandMode::kPosition) {
+      // The velocity limit as a ramp: at most max_velocity * period from last cycle's target.
       const double step = limits.max_velocity_rad_s * tick.period_s;
-      double target = std::clamp(command.value, limits.min_position_rad, limits.max_position_rad);
-      target = std::clamp(target, last_position_target_[j] - step, last_position_target_[j] + step);
-      last_position_target_[j] = target;
-      command.value = target;
+      command.value = std::clamp(command.value, last_position_target_[j] - step,
+                                 last_position_target_[j] + step);
+      last_position_target_[j] = command.value;
     } else {
-      command.value =
-          std::clamp(command.value, -limits.max_velocity_rad_s, limits.max_velocity_rad_s);
       last_position_target_[j] = state_scratch_[j].position_rad;
     }
     command_scratch_[j] = command;

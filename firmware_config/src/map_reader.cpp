@@ -356,7 +356,7 @@ double MapReader::angle_rad(std::string_view stem, Range range_rad) {
   return angle_rad_or(stem, 0.0, range_rad);
 }
 
-double MapReader::angle_rad_or(std::string_view stem, double fallback_rad, Range range_rad) {
+MapReader::AngleUnit MapReader::angle_unit(std::string_view stem) {
   const std::string rad_key = std::string(stem) + "_rad";
   const std::string deg_key = std::string(stem) + "_deg";
   const auto rad_entry = lookup(rad_key);
@@ -366,10 +366,18 @@ double MapReader::angle_rad_or(std::string_view stem, double fallback_rad, Range
     const auto& second = deg_second ? *deg_entry : *rad_entry;
     record(second.key.Mark(), child_path(deg_second ? deg_key : rad_key),
            "expected either " + deg_key + " or " + rad_key + ", found both");
-    return fallback_rad;
+    return AngleUnit::kBoth;
   }
-  if (rad_entry) return number_or(rad_key, fallback_rad, range_rad);
-  if (deg_entry) {
+  if (rad_entry) return AngleUnit::kRad;
+  return deg_entry ? AngleUnit::kDeg : AngleUnit::kAbsent;
+}
+
+double MapReader::angle_rad_or(std::string_view stem, double fallback_rad, Range range_rad) {
+  const std::string rad_key = std::string(stem) + "_rad";
+  const std::string deg_key = std::string(stem) + "_deg";
+  const AngleUnit unit = angle_unit(stem);
+  if (unit == AngleUnit::kRad) return number_or(rad_key, fallback_rad, range_rad);
+  if (unit == AngleUnit::kDeg) {
     const double value_deg =
         number_or(deg_key, fallback_rad / kRadPerDeg, scaled(range_rad, 1.0 / kRadPerDeg));
     // Multiply before dividing so that whole degrees give the closed form (90 deg -> pi / 2).
@@ -405,17 +413,9 @@ std::array<double, 3> MapReader::angles3_rad_or(std::string_view stem,
                                                 std::array<double, 3> fallback) {
   const std::string rad_key = std::string(stem) + "_rad";
   const std::string deg_key = std::string(stem) + "_deg";
-  const auto rad_entry = lookup(rad_key);
-  const auto deg_entry = lookup(deg_key);
-  if (rad_entry && deg_entry) {
-    const bool deg_second = deg_entry->key.Mark().pos > rad_entry->key.Mark().pos;
-    const auto& second = deg_second ? *deg_entry : *rad_entry;
-    record(second.key.Mark(), child_path(deg_second ? deg_key : rad_key),
-           "expected either " + deg_key + " or " + rad_key + ", found both");
-    return fallback;
-  }
-  if (rad_entry) return vector3_or(rad_key, fallback);
-  if (deg_entry) {
+  const AngleUnit unit = angle_unit(stem);
+  if (unit == AngleUnit::kRad) return vector3_or(rad_key, fallback);
+  if (unit == AngleUnit::kDeg) {
     const std::array<double, 3> nan3{std::nan(""), std::nan(""), std::nan("")};
     const std::array<double, 3> deg = vector3_or(deg_key, nan3);
     if (std::isnan(deg[0])) return fallback;

@@ -45,22 +45,8 @@ ServoModel::ServoModel(ServoParams params, std::uint64_t seed, double initial_po
 
 bool ServoModel::command(const hal::JointCommand& command) noexcept {
   hal::JointCommand accepted = command;
-  bool clamped = false;
-  if (!std::isfinite(accepted.value)) {
-    // A NaN or infinite target is refused as "hold where you are".
-    accepted = {hal::CommandMode::kVelocity, 0.0};
-    clamped = true;
-  } else if (accepted.mode == hal::CommandMode::kPosition) {
-    const double limited =
-        std::clamp(accepted.value, params_.min_position_rad, params_.max_position_rad);
-    clamped = limited != accepted.value;
-    accepted.value = limited;
-  } else {
-    const double limited =
-        std::clamp(accepted.value, -params_.max_velocity_rad_s, params_.max_velocity_rad_s);
-    clamped = limited != accepted.value;
-    accepted.value = limited;
-  }
+  const bool clamped = hal::clamp_command(accepted, params_.min_position_rad,
+                                          params_.max_position_rad, params_.max_velocity_rad_s);
   state_.pending = accepted;
   return clamped;
 }

@@ -27,21 +27,7 @@ hal::Status SimJointGroup::write(std::span<const hal::JointCommand> commands) {
   for (std::size_t k = 0; k < commands.size(); ++k) {
     const auto& limits = info_.limits[k];
     hal::JointCommand command = commands[k];
-    bool clamped = false;
-    if (!std::isfinite(command.value)) {
-      command = {hal::CommandMode::kVelocity, 0.0};  // Hold: never execute a NaN.
-      clamped = true;
-    } else if (command.mode == hal::CommandMode::kPosition) {
-      const double value =
-          std::clamp(command.value, limits.min_position_rad, limits.max_position_rad);
-      clamped = value != command.value;
-      command.value = value;
-    } else {
-      const double value =
-          std::clamp(command.value, -limits.max_velocity_rad_s, limits.max_velocity_rad_s);
-      clamped = value != command.value;
-      command.value = value;
-    }
+    const bool clamped = hal::clamp_command(command, limits);
     block.commands[k] = command;
     clamped_[k].store(clamped ? hal::kJointCommandClamped : 0u, std::memory_order_relaxed);
   }

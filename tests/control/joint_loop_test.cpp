@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "cambio/runtime/allocation_counter.hpp"
 
@@ -97,6 +98,19 @@ TEST(JointLoop, WatchdogHoldsPositionWhenTargetsGoStale) {
   // Fresh for 50 ms (51 cycles, t = 0..50 ms) at 2 mrad per cycle: 0.102 rad, then held.
   EXPECT_NEAR(f.group.position[0], 0.102, 1e-12);
   EXPECT_EQ(f.loop.stale_cycles(), 149u);
+}
+
+TEST(JointLoop, ANonFiniteTargetHoldsTheJointStill) {
+  Fixture f;
+  f.command(0.1, 0.0, 0);
+  f.tick(0);
+  f.command(std::nan(""), std::numeric_limits<double>::infinity(), 1'000'000);
+  f.tick(1);
+  EXPECT_EQ(f.group.last[0].mode, hal::CommandMode::kVelocity);
+  EXPECT_EQ(f.group.last[0].value, 0.0);
+  EXPECT_EQ(f.group.last[1].mode, hal::CommandMode::kVelocity);
+  EXPECT_EQ(f.group.last[1].value, 0.0);
+  EXPECT_DOUBLE_EQ(f.group.position[0], 0.002) << "the joint stays where the last ramp left it";
 }
 
 TEST(JointLoop, PublishesWhatTheEncodersSay) {

@@ -12,7 +12,8 @@ namespace cambio::control {
 
 /// The fast loop next to the hardware (1 kHz by default). Each cycle it reads every joint group,
 /// publishes the states, and sends the newest targets after enforcing, per joint:
-///  - position limits (the target is clamped and flagged, never sent beyond a limit),
+///  - position limits (the target is clamped, never sent beyond a limit; a NaN or infinite
+///    target holds the joint still),
 ///  - the velocity limit (a position target moves at most max_velocity * period per cycle, so a
 ///    step from the control loop becomes a ramp),
 ///  - a watchdog: targets older than `command_timeout_s` are stale; the joints then hold the

@@ -133,6 +133,10 @@ class MapReader {
             std::shared_ptr<IssueList> issues, YAML::Mark mark);
   /// Finds `key` and marks it as read; nullopt when absent.
   std::optional<Entry> lookup(std::string_view key);
+  /// Which of `<stem>_rad` and `<stem>_deg` this map holds; both at once is recorded as an
+  /// issue (at the later key) and reported as kBoth.
+  enum class AngleUnit { kAbsent, kRad, kDeg, kBoth };
+  AngleUnit angle_unit(std::string_view stem);
   /// Where an issue about `entry` is located: its value, or its key when the value is empty.
   static YAML::Mark mark_of(const Entry& entry);
   void record(const YAML::Mark& at, std::string key_path, std::string message);

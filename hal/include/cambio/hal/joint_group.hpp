@@ -1,5 +1,7 @@
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -43,9 +45,31 @@ struct JointCommand {
   double value = 0.0;  ///< rad for kPosition, rad/s for kVelocity.
 };
 
+/// Makes a command safe to execute: a position beyond [min, max] or a velocity beyond
+/// +-max_velocity is clamped; a non-finite value becomes "hold" (velocity 0). Returns true if the
+/// command changed (the caller flags kJointCommandClamped). Real-time safe.
+inline bool clamp_command(JointCommand& command, double min_position_rad, double max_position_rad,
+                          double max_velocity_rad_s) noexcept {
+  if (!std::isfinite(command.value)) {
+    command = {CommandMode::kVelocity, 0.0};
+    return true;
+  }
+  const double limited = command.mode == CommandMode::kPosition
+                             ? std::clamp(command.value, min_position_rad, max_position_rad)
+                             : std::clamp(command.value, -max_velocity_rad_s, max_velocity_rad_s);
+  const bool clamped = limited != command.value;
+  command.value = limited;
+  return clamped;
+}
+
+inline bool clamp_command(JointCommand& command, const JointLimits& limits) noexcept {
+  return clamp_command(command, limits.min_position_rad, limits.max_position_rad,
+                       limits.max_velocity_rad_s);
+}
+
 struct JointGroupInfo {
-  std::string name;                ///< e.g. "head", "left_arm".
-  std::string backend;             ///< "sim", "socketcan".
+  std::string name;                 ///< e.g. "head", "left_arm".
+  std::string backend;              ///< "sim", "socketcan".
   std::vector<std::string> joints;  ///< Joint names, in the order of read()/write() spans.
   std::vector<JointLimits> limits;  ///< One per joint, same order.
 };

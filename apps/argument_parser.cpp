@@ -87,8 +87,8 @@ bool ArgumentParser::parse(std::span<const std::string> args) {
   }
   for (std::size_t p = next_positional; p < positional_specs_.size(); ++p) {
     if (positional_specs_[p].required) {
-      throw UsageError(command_ + ": missing argument " + positional_specs_[p].name + " (see 'cambio " +
-                       command_ + " --help')");
+      throw UsageError(command_ + ": missing argument " + positional_specs_[p].name +
+                       " (see 'cambio " + command_ + " --help')");
     }
   }
   return true;

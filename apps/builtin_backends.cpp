@@ -4,6 +4,8 @@
 
 namespace cambio::app {
 
-void register_builtin_backends(hal::BackendFactory& factory) { sim::register_sim_backend(factory); }
+void register_builtin_backends(hal::BackendFactory& factory) {
+  sim::register_sim_backend(factory);
+}
 
 }  // namespace cambio::app

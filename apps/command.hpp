@@ -8,8 +8,8 @@ namespace cambio::app {
 
 /// Exit codes shared by every subcommand.
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitFailure = 1;     ///< The job ran and failed (or a goal was missed).
-inline constexpr int kExitBadInput = 2;    ///< Bad arguments, config, or input files.
+inline constexpr int kExitFailure = 1;   ///< The job ran and failed (or a goal was missed).
+inline constexpr int kExitBadInput = 2;  ///< Bad arguments, config, or input files.
 
 /// One `cambio <name>` subcommand. `args` excludes the program and subcommand names.
 struct Command {

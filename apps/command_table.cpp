@@ -16,12 +16,18 @@ int run_perception_bench_command(std::span<const std::string> args);
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
       Command{"run", "run an experiment (the main job)", &run_run_command},
-      Command{"check-config", "validate a rig file and print its summary", &run_check_config_command},
-      Command{"loop-bench", "measure loop wake-up latency on this machine", &run_loop_bench_command},
-      Command{"render", "render the eyes, depth and an overview of the sim at a pose", &run_render_command},
-      Command{"sim-bench", "measure sim physics steps/s and stereo camera frames/s", &run_sim_bench_command},
-      Command{"perceive", "run the Sensory Servo Module once on an image pair", &run_perceive_command},
-      Command{"perception-bench", "time the SSM against memcpy and full-image OpenCV", &run_perception_bench_command},
+      Command{"check-config", "validate a rig file and print its summary",
+              &run_check_config_command},
+      Command{"loop-bench", "measure loop wake-up latency on this machine",
+              &run_loop_bench_command},
+      Command{"render", "render the eyes, depth and an overview of the sim at a pose",
+              &run_render_command},
+      Command{"sim-bench", "measure sim physics steps/s and stereo camera frames/s",
+              &run_sim_bench_command},
+      Command{"perceive", "run the Sensory Servo Module once on an image pair",
+              &run_perceive_command},
+      Command{"perception-bench", "time the SSM against memcpy and full-image OpenCV",
+              &run_perception_bench_command},
   };
   return kCommands;
 }

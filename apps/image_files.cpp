@@ -22,13 +22,19 @@ hal::Image read_image_file(const std::string& path, hal::PixelFormat format) {
   cv::Mat converted;
   const int channels = raw.channels();
   if (format == hal::PixelFormat::kGrey8) {
-    if (channels == 1) converted = raw;
-    else if (channels == 3) cv::cvtColor(raw, converted, cv::COLOR_BGR2GRAY);
-    else if (channels == 4) cv::cvtColor(raw, converted, cv::COLOR_BGRA2GRAY);
+    if (channels == 1)
+      converted = raw;
+    else if (channels == 3)
+      cv::cvtColor(raw, converted, cv::COLOR_BGR2GRAY);
+    else if (channels == 4)
+      cv::cvtColor(raw, converted, cv::COLOR_BGRA2GRAY);
   } else {
-    if (channels == 1) cv::cvtColor(raw, converted, cv::COLOR_GRAY2RGB);
-    else if (channels == 3) cv::cvtColor(raw, converted, cv::COLOR_BGR2RGB);
-    else if (channels == 4) cv::cvtColor(raw, converted, cv::COLOR_BGRA2RGB);
+    if (channels == 1)
+      cv::cvtColor(raw, converted, cv::COLOR_GRAY2RGB);
+    else if (channels == 3)
+      cv::cvtColor(raw, converted, cv::COLOR_BGR2RGB);
+    else if (channels == 4)
+      cv::cvtColor(raw, converted, cv::COLOR_BGRA2RGB);
   }
   if (converted.empty()) {
     throw ImageFileError(path + ": unsupported channel count " + std::to_string(channels));
@@ -46,8 +52,10 @@ void write_png(const std::string& path, const hal::Image& image) {
   const cv::Mat view(image.height_px, image.width_px, type,
                      const_cast<std::uint8_t*>(image.pixels.data()), image.stride_bytes());
   cv::Mat bgr;
-  if (image.channels() == 3) cv::cvtColor(view, bgr, cv::COLOR_RGB2BGR);
-  else bgr = view;
+  if (image.channels() == 3)
+    cv::cvtColor(view, bgr, cv::COLOR_RGB2BGR);
+  else
+    bgr = view;
   if (!cv::imwrite(path, bgr)) throw ImageFileError(path + ": could not write PNG");
 }
 

@@ -13,8 +13,9 @@ void print_usage(std::ostream& out) {
   out << "usage: cambio <command> [options]\n\nCâmbio: real-time control stack for active-vision "
          "robots.\n\ncommands:\n";
   for (const auto& command : cambio::app::all_commands()) {
-    out << "  " << command.name << std::string(20 - std::min<std::size_t>(19, command.name.size()), ' ')
-        << command.summary << "\n";
+    out << "  " << command.name
+        << std::string(20 - std::min<std::size_t>(19, command.name.size()), ' ') << command.summary
+        << "\n";
   }
   out << "\n'cambio <command> --help' describes a command.\n";
 }

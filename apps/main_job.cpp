@@ -54,7 +54,8 @@ void MainJob::build_backends(const hal::BackendFactory& factory) {
   const hal::BackendOptions options{experiment_.scene_path, experiment_.seed,
                                     experiment_.executor == config::ExecutorKind::kRealtime};
   // One backend instance per backend name, shared by the groups and cameras naming it.
-  auto backend_for = [&](const std::string& name, const std::string& requested_by) -> hal::Backend& {
+  auto backend_for = [&](const std::string& name,
+                         const std::string& requested_by) -> hal::Backend& {
     auto& slot = backends_[name];
     if (!slot) slot = factory.make(name, rig, options, requested_by);
     return *slot;
@@ -109,9 +110,8 @@ void MainJob::build_loops() {
     const std::string ssm_path = experiment_.perception_path.empty()
                                      ? perception::default_ssm_config_path()
                                      : experiment_.perception_path;
-    const perception::SsmConfig ssm = ssm_path.empty()
-                                          ? perception::SsmConfig{}
-                                          : perception::load_ssm_config(ssm_path, {});
+    const perception::SsmConfig ssm =
+        ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
     perception_loop_ = std::make_unique<perception::SsmServer>(
         "perception", *frame_readers_[camera_index(rig.stereo->left_camera)],
         *frame_readers_[camera_index(rig.stereo->right_camera)], ssm);
@@ -120,10 +120,10 @@ void MainJob::build_loops() {
   if (experiment_.task == config::ControlTask::kVergence) {
     if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
     const bool right_verges = experiment_.vergence.verging_eye == config::EyeSide::kRight;
-    const auto& verging_camera = *rig.find_camera(right_verges ? rig.stereo->right_camera
-                                                               : rig.stereo->left_camera);
-    const auto& dominant_camera = *rig.find_camera(right_verges ? rig.stereo->left_camera
-                                                                : rig.stereo->right_camera);
+    const auto& verging_camera =
+        *rig.find_camera(right_verges ? rig.stereo->right_camera : rig.stereo->left_camera);
+    const auto& dominant_camera =
+        *rig.find_camera(right_verges ? rig.stereo->left_camera : rig.stereo->right_camera);
     control::VergenceParams params;
     params.verging_eye = right_verges ? control::Eye::kRight : control::Eye::kLeft;
     params.focal_px = verging_camera.focal_x_px;
@@ -148,7 +148,8 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
       {control_loop_.get(), loop_schedule(rig, "control")},
       {camera_loop_.get(), loop_schedule(rig, "camera")},
   };
-  if (perception_loop_) scheduled.push_back({perception_loop_.get(), loop_schedule(rig, "perception")});
+  if (perception_loop_)
+    scheduled.push_back({perception_loop_.get(), loop_schedule(rig, "perception")});
   for (auto& [name, backend] : backends_) {
     for (const hal::BackendLoop& backend_loop : backend->loops()) {
       config::LoopConfig schedule;

@@ -101,7 +101,10 @@ int run_run_command(std::span<const std::string> args) {
     std::cout << "vergence: " << result.vergence->corrections << " corrections from "
               << result.vergence->measurements << " measurements; final disparity "
               << result.vergence->disparity_px << " px (goal |d| <= " << goal << " px): "
-              << (goal <= 0 ? "not scored" : verged ? "verged" : "NOT verged") << "\n";
+              << (goal <= 0 ? "not scored"
+                  : verged  ? "verged"
+                            : "NOT verged")
+              << "\n";
     if (goal > 0 && !verged && !result.stopped_by_signal) exit_code = kExitFailure;
   }
 

@@ -1,7 +1,7 @@
 #include "stop_signal.hpp"
 
-#include <csignal>
 #include <unistd.h>
+#include <csignal>
 
 namespace cambio::app {
 namespace {
@@ -18,7 +18,7 @@ extern "C" void on_stop_signal(int signal_number) {
 }  // namespace
 
 const std::atomic<bool>& install_stop_signal_handlers() {
-  struct sigaction action{};
+  struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);

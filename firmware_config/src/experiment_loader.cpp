@@ -48,9 +48,10 @@ ExperimentConfig load_experiment(const std::string& path,
   if (auto vergence = experiment.optional_map("vergence")) {
     config.vergence.verging_eye =
         vergence->choice_or("verging_eye", {"left", "right"}, "right") == "left" ? EyeSide::kLeft
-                                                                                  : EyeSide::kRight;
+                                                                                 : EyeSide::kRight;
     config.vergence.gain = vergence->number_or("gain", 0.5, {0.0, 1.0, true, false});
-    config.vergence.min_confidence = vergence->number_or("min_confidence", 0.3, Range::closed(0, 1));
+    config.vergence.min_confidence =
+        vergence->number_or("min_confidence", 0.3, Range::closed(0, 1));
     config.vergence.max_step_rad = vergence->angle_rad_or("max_step", 0.05, Range::positive());
     config.vergence.goal_disparity_px =
         vergence->number_or("goal_disparity_px", 1.0, Range::non_negative());
@@ -103,8 +104,10 @@ ExperimentConfig load_experiment(const std::string& path,
     pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
   }
   if (config.task == ControlTask::kVergence && !config.rig.stereo) {
-    experiment.error("task", "expected a rig with a stereo pair for the vergence task, found "
-                             "none in " + config.rig_path);
+    experiment.error("task",
+                     "expected a rig with a stereo pair for the vergence task, found "
+                     "none in " +
+                         config.rig_path);
   }
   experiment.finish();
   document.issues()->throw_if_any();

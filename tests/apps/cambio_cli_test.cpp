@@ -55,9 +55,9 @@ TEST(CambioCli, EverySubcommandHasHelp) {
 TEST(CambioCli, LoopBenchJsonHasTheDocumentedKeys) {
   const auto result = run_cambio("loop-bench --rate-hz 2000 --duration-s 0.2 --json");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* key : {"\"loops\": [", "\"name\"", "\"rate_hz\": 2000", "\"p50_us\"",
-                          "\"p99_us\"", "\"p999_us\"", "\"max_us\"", "\"overruns\"",
-                          "\"allocations_per_cycle\": 0"}) {
+  for (const char* key :
+       {"\"loops\": [", "\"name\"", "\"rate_hz\": 2000", "\"p50_us\"", "\"p99_us\"", "\"p999_us\"",
+        "\"max_us\"", "\"overruns\"", "\"allocations_per_cycle\": 0"}) {
     EXPECT_TRUE(contains(result.output, key)) << key << " missing from:\n" << result.output;
   }
   // 0.2 s at 2 kHz is 400 deadlines: each one either ran or was skipped after an overrun.
@@ -100,7 +100,8 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   std::filesystem::remove_all(out_dir);
   const auto result = run_cambio(
       "run firmware_config/experiments/sim_default.yaml --set experiment.duration_s=0.5 "
-      "--set experiment.task=hold --out '" + out_dir.string() + "'");
+      "--set experiment.task=hold --out '" +
+      out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "joint")) << result.output;
   // 0.5 s at 30 Hz, two cameras: 15 frames each.

@@ -43,14 +43,15 @@ double per_cycle(std::uint64_t total, std::uint64_t cycles) {
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%-12s %8s %9s %9s %9s %9s %9s %8s %9s %10s\n", "loop", "rate_hz",
-                "cycles", "p50_us", "p99_us", "p99.9_us", "max_us", "overruns", "exec_p99",
-                "alloc/cyc");
+  std::snprintf(line, sizeof line, "%-12s %8s %9s %9s %9s %9s %9s %8s %9s %10s\n", "loop",
+                "rate_hz", "cycles", "p50_us", "p99_us", "p99.9_us", "max_us", "overruns",
+                "exec_p99", "alloc/cyc");
   out += line;
   for (std::size_t i = 0; i < count; ++i) {
     const LoopStatistics& s = stats[i];
-    std::snprintf(line, sizeof line, "%-12s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f\n",
-                  s.name.c_str(), s.rate_hz, static_cast<unsigned long long>(s.cycles),
+    std::snprintf(line, sizeof line,
+                  "%-12s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f\n", s.name.c_str(),
+                  s.rate_hz, static_cast<unsigned long long>(s.cycles),
                   s.wakeup_latency.percentile_us(0.50), s.wakeup_latency.percentile_us(0.99),
                   s.wakeup_latency.percentile_us(0.999),
                   static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0,
@@ -72,8 +73,9 @@ std::string statistics_json(const LoopStatistics& s) {
       "\"realtime_priority\": %s, \"cpu_affinity\": %s}",
       s.name.c_str(), s.rate_hz, static_cast<unsigned long long>(s.cycles),
       s.wakeup_latency.percentile_us(0.50), s.wakeup_latency.percentile_us(0.99),
-      s.wakeup_latency.percentile_us(0.999), static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0,
-      s.wakeup_latency.mean_ns() / 1000.0, static_cast<unsigned long long>(s.overruns),
+      s.wakeup_latency.percentile_us(0.999),
+      static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0, s.wakeup_latency.mean_ns() / 1000.0,
+      static_cast<unsigned long long>(s.overruns),
       static_cast<unsigned long long>(s.skipped_cycles),
       static_cast<unsigned long long>(s.failed_updates), per_cycle(s.allocations, s.cycles),
       s.execution_time.percentile_us(0.50), s.execution_time.percentile_us(0.99),

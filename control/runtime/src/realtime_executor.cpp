@@ -22,7 +22,9 @@ namespace {
 // already late.
 constexpr std::int64_t kStartDelayNs = 2'000'000;
 
-std::string errno_text(int error) { return std::strerror(error); }
+std::string errno_text(int error) {
+  return std::strerror(error);
+}
 
 }  // namespace
 
@@ -43,7 +45,7 @@ RealtimeExecutor::RealtimeExecutor(hal::Clock& clock, std::vector<ScheduledLoop>
 }
 
 std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
-                                                std::int64_t duration_ns, bool print_warnings) {
+                                               std::int64_t duration_ns, bool print_warnings) {
   std::vector<std::string> warnings;
   std::mutex warnings_mutex;  // Only used before the cycles start and after they end.
   auto warn = [&](std::string text) {

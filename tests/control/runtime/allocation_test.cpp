@@ -116,8 +116,8 @@ class PerceptionLoop final : public NamedLoop {
     if (!channels_.frames.acquire()) return hal::Status::kNoNewData;
     working_ = channels_.frames.front();  // Same size: reuses working_'s buffer.
     const double sum = std::accumulate(working_.pixels.begin(), working_.pixels.end(), 0.0);
-    channels_.perception.write({sum / static_cast<double>(working_.pixels.size()),
-                                working_.sequence});
+    channels_.perception.write(
+        {sum / static_cast<double>(working_.pixels.size()), working_.sequence});
     return hal::Status::kOk;
   }
 
@@ -186,10 +186,11 @@ TEST(Allocation, RealtimeRuntimeWithChannelsAllocatesNothing) {
   CameraLoop camera(channels);
   PerceptionLoop perception(channels);
   hal::MonotonicClock clock;
-  RealtimeExecutor executor(clock, {{&joint, rate("joint", 1000)},
-                                    {&control, rate("control", 200)},
-                                    {&perception, rate("perception", 60)},
-                                    {&camera, rate("camera", 30)}},
+  RealtimeExecutor executor(clock,
+                            {{&joint, rate("joint", 1000)},
+                             {&control, rate("control", 200)},
+                             {&perception, rate("perception", 60)},
+                             {&camera, rate("camera", 30)}},
                             {});
   const std::atomic<bool> never{false};
   executor.run(never, 500'000'000, false);

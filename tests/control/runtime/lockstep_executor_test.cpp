@@ -20,8 +20,8 @@ std::vector<TraceEntry> run_two_loops(std::int64_t duration_ns) {
   RecordingLoop joint("joint", clock, trace);
   RecordingLoop control("control", clock, trace);
   // control is listed first but joint has the higher priority: joint must run first on ties.
-  LockstepExecutor executor(clock, {{&control, schedule("control", 200, 70)},
-                                    {&joint, schedule("joint", 1000, 80)}});
+  LockstepExecutor executor(
+      clock, {{&control, schedule("control", 200, 70)}, {&joint, schedule("joint", 1000, 80)}});
   executor.configure();
   executor.run_until_ns(duration_ns);
   executor.deactivate();
@@ -33,8 +33,8 @@ TEST(LockstepExecutor, RunsEachLoopAtExactlyItsRateOnSimulatedTime) {
   std::vector<TraceEntry> trace;
   RecordingLoop joint("joint", clock, trace);
   RecordingLoop camera("camera", clock, trace);
-  LockstepExecutor executor(clock, {{&joint, schedule("joint", 1000)},
-                                    {&camera, schedule("camera", 30)}});
+  LockstepExecutor executor(clock,
+                            {{&joint, schedule("joint", 1000)}, {&camera, schedule("camera", 30)}});
   executor.configure();
   executor.run_until_ns(10'000'000'000);  // 10 s of simulated time.
 

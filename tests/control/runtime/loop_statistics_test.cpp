@@ -30,9 +30,9 @@ TEST(LoopStatistics, JsonCarriesTheKeysLoopBenchPromises) {
   stats.rate_hz = 1000;
   stats.cycles = 10;
   const std::string json = statistics_json(stats);
-  for (const char* key : {"\"name\": \"joint\"", "\"rate_hz\": 1000", "\"cycles\": 10", "\"p50_us\"",
-                          "\"p99_us\"", "\"p999_us\"", "\"max_us\"", "\"overruns\"",
-                          "\"allocations_per_cycle\""}) {
+  for (const char* key :
+       {"\"name\": \"joint\"", "\"rate_hz\": 1000", "\"cycles\": 10", "\"p50_us\"", "\"p99_us\"",
+        "\"p999_us\"", "\"max_us\"", "\"overruns\"", "\"allocations_per_cycle\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key << " missing from " << json;
   }
 }

@@ -58,11 +58,13 @@ TEST(RealtimeExecutor, RunsEachLoopAtItsRateForTheDuration) {
 }
 
 std::atomic<bool> g_sigint{false};
-extern "C" void on_sigint(int) { g_sigint.store(true); }
+extern "C" void on_sigint(int) {
+  g_sigint.store(true);
+}
 
 TEST(RealtimeExecutor, StopsCleanlyOnSigint) {
-  struct sigaction action{};
-  struct sigaction previous{};
+  struct sigaction action {};
+  struct sigaction previous {};
   action.sa_handler = on_sigint;
   sigemptyset(&action.sa_mask);
   ASSERT_EQ(sigaction(SIGINT, &action, &previous), 0);

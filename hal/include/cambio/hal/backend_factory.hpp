@@ -63,10 +63,12 @@ class BackendUnavailable : public std::runtime_error {
 /// is refused with a message that says which names are available.
 class BackendFactory {
  public:
-  using Maker = std::function<std::unique_ptr<Backend>(const config::RigConfig&,
-                                                       const BackendOptions&)>;
+  using Maker =
+      std::function<std::unique_ptr<Backend>(const config::RigConfig&, const BackendOptions&)>;
 
-  void register_backend(std::string name, Maker maker) { makers_[std::move(name)] = std::move(maker); }
+  void register_backend(std::string name, Maker maker) {
+    makers_[std::move(name)] = std::move(maker);
+  }
 
   bool has(std::string_view name) const { return makers_.find(std::string(name)) != makers_.end(); }
 

@@ -16,10 +16,10 @@ struct CanFrame {
   static constexpr std::uint8_t kMaxFdDataBytes = 64;
 
   std::uint32_t id = 0;
-  bool extended_id = false;      ///< 29-bit identifier.
-  bool remote_request = false;   ///< RTR (classic only).
-  bool error_frame = false;      ///< Error frame reported by the controller; `data` holds its class.
-  bool fd = false;               ///< CAN FD frame (up to 64 data bytes).
+  bool extended_id = false;     ///< 29-bit identifier.
+  bool remote_request = false;  ///< RTR (classic only).
+  bool error_frame = false;     ///< Error frame reported by the controller; `data` holds its class.
+  bool fd = false;              ///< CAN FD frame (up to 64 data bytes).
   bool bit_rate_switch = false;  ///< FD BRS: data phase at the data bit rate.
   std::uint8_t length = 0;       ///< Data bytes (0-8 classic; FD: 0-8,12,16,20,24,32,48,64).
   std::array<std::uint8_t, kMaxFdDataBytes> data{};
@@ -27,7 +27,13 @@ struct CanFrame {
 };
 
 /// Controller state per ISO 11898-1 fault confinement.
-enum class CanBusState : std::uint8_t { kErrorActive, kErrorWarning, kErrorPassive, kBusOff, kDown };
+enum class CanBusState : std::uint8_t {
+  kErrorActive,
+  kErrorWarning,
+  kErrorPassive,
+  kBusOff,
+  kDown
+};
 
 struct CanBusStatus {
   CanBusState state = CanBusState::kDown;

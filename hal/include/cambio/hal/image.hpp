@@ -9,7 +9,9 @@ namespace cambio::hal {
 
 enum class PixelFormat : std::uint8_t { kGrey8, kRgb8 };
 
-constexpr int channels_of(PixelFormat format) { return format == PixelFormat::kRgb8 ? 3 : 1; }
+constexpr int channels_of(PixelFormat format) {
+  return format == PixelFormat::kRgb8 ? 3 : 1;
+}
 
 /// A pinhole camera model in pixels. Principal point measured from the top-left pixel's centre
 /// being (0, 0); x to the right, y down.

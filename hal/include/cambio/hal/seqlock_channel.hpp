@@ -20,7 +20,10 @@ class SeqlockChannel {
   static_assert(std::is_trivially_copyable_v<T>, "SeqlockChannel holds trivially copyable values");
 
  public:
-  SeqlockChannel() { write(T{}); sequence_.store(0, std::memory_order_relaxed); }
+  SeqlockChannel() {
+    write(T{});
+    sequence_.store(0, std::memory_order_relaxed);
+  }
   explicit SeqlockChannel(const T& initial) {
     write(initial);
     sequence_.store(0, std::memory_order_relaxed);

@@ -35,12 +35,12 @@ struct LoopStatistics {
   std::string name;
   double rate_hz = 0.0;
   std::uint64_t cycles = 0;
-  std::uint64_t overruns = 0;         ///< Cycles whose update ended after the next deadline.
-  std::uint64_t skipped_cycles = 0;   ///< Deadlines dropped by the skip overrun policy.
-  std::uint64_t failed_updates = 0;   ///< update() returned something other than kOk/kNoNewData.
-  std::uint64_t allocations = 0;      ///< Heap allocations made by update() calls.
-  LatencyHistogram wakeup_latency;    ///< now - deadline at the start of each update.
-  LatencyHistogram execution_time;    ///< Duration of each update.
+  std::uint64_t overruns = 0;        ///< Cycles whose update ended after the next deadline.
+  std::uint64_t skipped_cycles = 0;  ///< Deadlines dropped by the skip overrun policy.
+  std::uint64_t failed_updates = 0;  ///< update() returned something other than kOk/kNoNewData.
+  std::uint64_t allocations = 0;     ///< Heap allocations made by update() calls.
+  LatencyHistogram wakeup_latency;   ///< now - deadline at the start of each update.
+  LatencyHistogram execution_time;   ///< Duration of each update.
   bool realtime_priority_granted = false;
   bool cpu_affinity_granted = false;
 };

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -36,10 +37,12 @@ TEST(TripleBuffer, ReaderGetsTheNewestOfSeveralPublishes) {
 
 // Each image is filled with one value (its frame number, mod 256) and stamped with the frame
 // number: a reader that sees mixed pixels, or a stamp that disagrees with them, saw a torn frame.
+// Every 64 frames the writer waits until the reader has taken one more frame, so the two really
+// overlap however the threads are scheduled; between those points the writer runs flat out.
 TEST(TripleBuffer, ConcurrentImagesAreNeverTornAndNeverGoBackwards) {
   TripleBuffer<Image> buffer(Image(64, 48, PixelFormat::kGrey8));
-  constexpr std::uint64_t kMinFrames = 50'000;
-  constexpr std::uint64_t kMinSeen = 100;  // Frames the reader must take while racing.
+  constexpr std::uint64_t kFrames = 64'000;
+  constexpr std::uint64_t kPace = 64;
   std::atomic<bool> done{false};
   std::atomic<std::uint64_t> seen{0};
   std::uint64_t torn = 0;
@@ -59,26 +62,32 @@ TEST(TripleBuffer, ConcurrentImagesAreNeverTornAndNeverGoBackwards) {
       }
       if (image.sequence < last) ++backwards;
       last = image.sequence;
-      ++seen;
+      seen.fetch_add(1, std::memory_order_release);
     }
   });
-  std::uint64_t n = 0;
-  // Keep publishing until the reader has really raced the writer (bounded, in case it starves).
-  while (n < kMinFrames || (seen.load() < kMinSeen && n < 100 * kMinFrames)) {
-    ++n;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  bool reader_starved = false;
+  for (std::uint64_t n = 1; n <= kFrames; ++n) {
     Image& slot = buffer.back();
     slot.sequence = n;
     std::fill(slot.pixels.begin(), slot.pixels.end(), static_cast<std::uint8_t>(n & 0xff));
     buffer.publish();
+    if (n % kPace == 0) {
+      while (seen.load(std::memory_order_acquire) < n / kPace && !reader_starved) {
+        std::this_thread::yield();
+        reader_starved = std::chrono::steady_clock::now() > give_up;
+      }
+    }
   }
   done.store(true, std::memory_order_release);
   reader.join();
 
+  EXPECT_FALSE(reader_starved) << "the reader took no frame for 10 s";
   EXPECT_EQ(torn, 0u);
   EXPECT_EQ(backwards, 0u);
-  EXPECT_GE(seen.load(), kMinSeen);
+  EXPECT_GE(seen.load(), kFrames / kPace);
   buffer.acquire();
-  EXPECT_EQ(buffer.front().sequence, n);
+  EXPECT_EQ(buffer.front().sequence, kFrames);
 }
 
 }  // namespace

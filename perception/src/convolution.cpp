@@ -60,6 +60,98 @@ template <int kWidth>
   }
 }
 
+// Strips of 16 outputs (two 8-float vectors) with the sums held in registers for every tap:
+// each tap step is two loads per side and one FMA per output vector, with no reload or store
+// of the output and no aliasing checks. kOdd odd masks and kEven even masks of the same half
+// width share the loads and the folded lo - hi / lo + hi, so one pass over the input feeds up
+// to three outputs. Per output the operation order is the one of convolve_line.
+using Vec8 = float __attribute__((vector_size(32)));
+
+// Vec8 values are only passed between always-inline helpers of this file, never across a real
+// call, so the AVX-vs-SSE argument ABI note does not apply (popped at the end of the file).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+[[gnu::always_inline]] inline Vec8 load8(const float* p) {
+  Vec8 v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+
+[[gnu::always_inline]] inline void store8(float* p, Vec8 v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
+
+constexpr int kStrip = 16;
+
+template <int kOdd, int kEven>
+[[gnu::always_inline]] inline void folded_strips(const float* in, std::ptrdiff_t in_stride,
+                                                 std::ptrdiff_t unit, float* const* out,
+                                                 std::ptrdiff_t out_stride, int width, int height,
+                                                 const float* const* c, int s) {
+  constexpr int kOut = kOdd + kEven;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; x += kStrip) {
+      const float* p = in + y * in_stride + x;
+      const Vec8 m0 = load8(p);
+      const Vec8 m1 = load8(p + 8);
+      Vec8 acc[kOut][2];
+      for (int j = 0; j < kOut; ++j) {
+        acc[j][0] = c[j][0] * m0;
+        acc[j][1] = c[j][0] * m1;
+      }
+      for (int t = 1; t <= s; ++t) {
+        const float* lo = p - t * unit;
+        const float* hi = p + t * unit;
+        const Vec8 lo0 = load8(lo);
+        const Vec8 lo1 = load8(lo + 8);
+        const Vec8 hi0 = load8(hi);
+        const Vec8 hi1 = load8(hi + 8);
+        if constexpr (kOdd > 0) {
+          const Vec8 d0 = lo0 - hi0;
+          const Vec8 d1 = lo1 - hi1;
+          for (int j = 0; j < kOdd; ++j) {
+            const float k = c[j][t];
+            acc[j][0] += k * d0;
+            acc[j][1] += k * d1;
+          }
+        }
+        if constexpr (kEven > 0) {
+          const Vec8 e0 = lo0 + hi0;
+          const Vec8 e1 = lo1 + hi1;
+          for (int j = kOdd; j < kOut; ++j) {
+            const float k = c[j][t];
+            acc[j][0] += k * e0;
+            acc[j][1] += k * e1;
+          }
+        }
+      }
+      for (int j = 0; j < kOut; ++j) {
+        float* q = out[j] + y * out_stride + x;
+        store8(q, acc[j][0]);
+        store8(q + 8, acc[j][1]);
+      }
+    }
+  }
+}
+
+// The strip path for one mask; false when it does not apply (asymmetric mask, width not a
+// multiple of the strip).
+[[gnu::always_inline]] inline bool strips_one(const float* in, std::ptrdiff_t in_stride,
+                                              std::ptrdiff_t unit, float* out,
+                                              std::ptrdiff_t out_stride, int width, int height,
+                                              const Taps& taps) {
+  if (width % kStrip != 0 || taps.symmetry == Symmetry::kNone) return false;
+  const float* c[1] = {taps.centre()};
+  float* o[1] = {out};
+  if (taps.symmetry == Symmetry::kOdd) {
+    folded_strips<1, 0>(in, in_stride, unit, o, out_stride, width, height, c, taps.half_width);
+  } else {
+    folded_strips<0, 1>(in, in_stride, unit, o, out_stride, width, height, c, taps.half_width);
+  }
+  return true;
+}
+
 template <int kWidth>
 [[gnu::always_inline]] inline void convolve_lines(const float* in, std::ptrdiff_t in_stride,
                                                   std::ptrdiff_t unit, float* out,
@@ -96,12 +188,19 @@ template <int kWidth>
 __attribute__((target_clones("arch=haswell", "default"))) void convolve_rows(
     const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride, int width,
     int height, const Taps& taps) noexcept {
+  if (strips_one(in, in_stride, 1, out, out_stride, width, height, taps)) return;
   convolve_any(in, in_stride, 1, out, out_stride, width, height, taps);
 }
 
 __attribute__((target_clones("arch=haswell", "default"))) void convolve_columns(
     const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride, int width,
     int height, const Taps& taps) noexcept {
+  if (in_stride == width && out_stride == width && (width * height) % kStrip == 0) {
+    // Packed planes: one long line of width * height outputs.
+    if (strips_one(in, 0, in_stride, out, 0, width * height, 1, taps)) return;
+  } else if (strips_one(in, in_stride, in_stride, out, out_stride, width, height, taps)) {
+    return;
+  }
   if (in_stride == width && out_stride == width) {
     // Packed planes: rows y - t and y + t of the whole plane are one contiguous run each.
     convolve_line<0>(in, in_stride, out, width * height, taps.centre(), taps.half_width,
@@ -109,6 +208,34 @@ __attribute__((target_clones("arch=haswell", "default"))) void convolve_columns(
     return;
   }
   convolve_any(in, in_stride, in_stride, out, out_stride, width, height, taps);
+}
+
+__attribute__((target_clones("arch=haswell", "default"))) bool convolve_rows_family(
+    const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride, int width, int height,
+    const Taps& odd, float* odd_out, const Taps& even_a, float* even_a_out, const Taps& even_b,
+    float* even_b_out) noexcept {
+  if (width % kStrip != 0 || odd.symmetry != Symmetry::kOdd || even_a.symmetry != Symmetry::kEven ||
+      even_b.symmetry != Symmetry::kEven || odd.half_width != even_a.half_width ||
+      odd.half_width != even_b.half_width) {
+    return false;
+  }
+  const float* c[3] = {odd.centre(), even_a.centre(), even_b.centre()};
+  float* o[3] = {odd_out, even_a_out, even_b_out};
+  folded_strips<1, 2>(in, in_stride, 1, o, out_stride, width, height, c, odd.half_width);
+  return true;
+}
+
+__attribute__((target_clones("arch=haswell", "default"))) bool convolve_columns_pair(
+    const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride, int width, int height,
+    const Taps& odd, float* odd_out, const Taps& even, float* even_out) noexcept {
+  if (width % kStrip != 0 || odd.symmetry != Symmetry::kOdd || even.symmetry != Symmetry::kEven ||
+      odd.half_width != even.half_width) {
+    return false;
+  }
+  const float* c[2] = {odd.centre(), even.centre()};
+  float* o[2] = {odd_out, even_out};
+  folded_strips<1, 1>(in, in_stride, in_stride, o, out_stride, width, height, c, odd.half_width);
+  return true;
 }
 
 __attribute__((target_clones("arch=haswell", "default"))) void correlate_2d(
@@ -129,5 +256,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void correlate_2d(
     }
   }
 }
+
+#pragma GCC diagnostic pop
 
 }  // namespace cambio::perception

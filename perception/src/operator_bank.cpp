@@ -184,9 +184,13 @@ void OperatorBank::apply(const RetinaLevelView& level, MapMask request, float* o
     float* along1 = scratch_.data();
     float* along2 = along1 + plane;
     float* across = along2 + plane;
-    convolve_rows(top, level.stride, along1, width_, width_, rows, family.order1);
-    convolve_rows(top, level.stride, along2, width_, width_, rows, family.order2);
-    convolve_rows(top, level.stride, across, width_, width_, rows, family.across);
+    // One pass for the three (Eq. 3-5 share the rows and the folded tap pairs).
+    if (!convolve_rows_family(top, level.stride, width_, width_, rows, family.order1, along1,
+                              family.order2, along2, family.across, across)) {
+      convolve_rows(top, level.stride, along1, width_, width_, rows, family.order1);
+      convolve_rows(top, level.stride, along2, width_, width_, rows, family.order2);
+      convolve_rows(top, level.stride, across, width_, width_, rows, family.across);
+    }
     const std::ptrdiff_t centre = static_cast<std::ptrdiff_t>(s) * width_;
     // Eq. 3: 1-D masks along d. Along x, the order-0 mask is lambda e^(a t^2), the across pass
     // scaled by lambda: its interior rows give g0x without another pass.
@@ -201,12 +205,16 @@ void OperatorBank::apply(const RetinaLevelView& level, MapMask request, float* o
     // Eq. 4-5: derivative along d times e^(a t^2) across d.
     convolve_columns(along1 + centre, width_, map_out(out, first + 2), width_, width_, height_,
                      family.across);
-    convolve_columns(across + centre, width_, map_out(out, first + 3), width_, width_, height_,
-                     family.order1);
     convolve_columns(along2 + centre, width_, map_out(out, first + 4), width_, width_, height_,
                      family.across);
-    convolve_columns(across + centre, width_, map_out(out, first + 5), width_, width_, height_,
-                     family.order2);
+    // g1y and g2y read the same across plane: one pass for both.
+    if (!convolve_columns_pair(across + centre, width_, width_, width_, height_, family.order1,
+                               map_out(out, first + 3), family.order2, map_out(out, first + 5))) {
+      convolve_columns(across + centre, width_, map_out(out, first + 3), width_, width_, height_,
+                       family.order1);
+      convolve_columns(across + centre, width_, map_out(out, first + 5), width_, width_, height_,
+                       family.order2);
+    }
     if (family.laplacian_map >= 0 && wanted(family.laplacian_map)) {
       const float* xx = map_out(out, first + 4);
       const float* yy = map_out(out, first + 5);

@@ -29,6 +29,22 @@ void convolve_rows(const float* in, std::ptrdiff_t in_stride, float* out, std::p
 void convolve_columns(const float* in, std::ptrdiff_t in_stride, float* out,
                       std::ptrdiff_t out_stride, int width, int height, const Taps& taps) noexcept;
 
+/// Three row passes in one over the same rows: an odd mask and two even masks of one half
+/// width (a Gaussian family's order 1, order 2 and across), sharing the loads and folded sums.
+/// Each output equals convolve_rows with its mask. Returns false, touching nothing, unless the
+/// symmetries and half widths match and width is a multiple of 16.
+bool convolve_rows_family(const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride,
+                          int width, int height, const Taps& odd, float* odd_out,
+                          const Taps& even_a, float* even_a_out, const Taps& even_b,
+                          float* even_b_out) noexcept;
+
+/// Two column passes in one over the same input: an odd and an even mask of one half width.
+/// Each output equals convolve_columns with its mask. Returns false, touching nothing, unless
+/// the symmetries and half widths match and width is a multiple of 16.
+bool convolve_columns_pair(const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride,
+                           int width, int height, const Taps& odd, float* odd_out, const Taps& even,
+                           float* even_out) noexcept;
+
 /// out(x, y) = sum_{r,c} mask(r, c) in(x + c - cols/2, y + r - rows/2): a mask applied as
 /// written (correlation), as cv::filter2D does. Real-time safe.
 void correlate_2d(const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride,

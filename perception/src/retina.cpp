@@ -20,23 +20,68 @@ __attribute__((target_clones("arch=haswell", "default"))) void add_row(
   for (int i = 0; i < count; ++i) sums[i] += row[i];
 }
 
-void add_row_gathered(std::uint32_t* __restrict sums, const std::uint8_t* __restrict row,
+__attribute__((target_clones("arch=haswell", "default"))) void add_row(
+    std::uint16_t* __restrict sums, const std::uint8_t* __restrict row, int count) {
+  for (int i = 0; i < count; ++i) sums[i] = static_cast<std::uint16_t>(sums[i] + row[i]);
+}
+
+template <typename Sum>
+void add_row_gathered(Sum* __restrict sums, const std::uint8_t* __restrict row,
                       const std::int32_t* __restrict index, int count) {
-  for (int i = 0; i < count; ++i) sums[i] += row[index[i]];
+  for (int i = 0; i < count; ++i) sums[i] = static_cast<Sum>(sums[i] + row[index[i]]);
+}
+
+// A compile-time block width: the block sum is a fixed run of adds the compiler turns into
+// whole-vector loads and a short horizontal reduction instead of a counted inner loop.
+template <int kScale, typename Sum>
+[[gnu::always_inline]] inline void reduce_fixed(const Sum* __restrict sums, float* __restrict out,
+                                                int count, float norm) {
+  for (int i = 0; i < count; ++i) {
+    std::uint32_t total = 0;
+    const Sum* block = sums + static_cast<std::ptrdiff_t>(i) * kScale;
+    for (int j = 0; j < kScale; ++j) total += block[j];
+    out[i] = static_cast<float>(total) * norm;
+  }
+}
+
+template <typename Sum>
+[[gnu::always_inline]] inline void reduce_any(const Sum* __restrict sums, float* __restrict out,
+                                              int count, int scale, float norm) {
+  switch (scale) {
+    case 1:
+      for (int i = 0; i < count; ++i) out[i] = static_cast<float>(sums[i]) * norm;
+      return;
+    case 2:
+      reduce_fixed<2>(sums, out, count, norm);
+      return;
+    case 4:
+      reduce_fixed<4>(sums, out, count, norm);
+      return;
+    case 8:
+      reduce_fixed<8>(sums, out, count, norm);
+      return;
+    case 16:
+      reduce_fixed<16>(sums, out, count, norm);
+      return;
+    default:
+      break;
+  }
+  for (int i = 0; i < count; ++i) {
+    std::uint32_t total = 0;
+    const Sum* block = sums + static_cast<std::ptrdiff_t>(i) * scale;
+    for (int j = 0; j < scale; ++j) total += block[j];
+    out[i] = static_cast<float>(total) * norm;
+  }
 }
 
 __attribute__((target_clones("arch=haswell", "default"))) void reduce_blocks(
     const std::uint32_t* __restrict sums, float* __restrict out, int count, int scale, float norm) {
-  if (scale == 1) {
-    for (int i = 0; i < count; ++i) out[i] = static_cast<float>(sums[i]) * norm;
-    return;
-  }
-  for (int i = 0; i < count; ++i) {
-    std::uint32_t total = 0;
-    const std::uint32_t* block = sums + static_cast<std::ptrdiff_t>(i) * scale;
-    for (int j = 0; j < scale; ++j) total += block[j];
-    out[i] = static_cast<float>(total) * norm;
-  }
+  reduce_any(sums, out, count, scale, norm);
+}
+
+__attribute__((target_clones("arch=haswell", "default"))) void reduce_blocks(
+    const std::uint16_t* __restrict sums, float* __restrict out, int count, int scale, float norm) {
+  reduce_any(sums, out, count, scale, norm);
 }
 
 int ceil_div(int a, int b) {
@@ -63,6 +108,7 @@ Retina::Retina(const RetinaConfig& config, int apron_px, int image_width_px, int
   levels_.resize(static_cast<std::size_t>(config.levels));
   for (auto& level : levels_) level.samples.assign(padded_w * padded_h, 0.0f);
   column_sums_.assign(padded_w * static_cast<std::size_t>(max_scale_), 0u);
+  column_sums16_.assign(padded_w * static_cast<std::size_t>(std::min(max_scale_, 16)), 0u);
   column_index_.assign(padded_w * static_cast<std::size_t>(max_scale_), 0);
   luma_row_.assign(static_cast<std::size_t>(std::max(image_width_px, 1)), 0u);
 }
@@ -135,24 +181,31 @@ void Retina::build_level(const hal::Image& image, Level& level) noexcept {
 
   const bool rgb = image.format == hal::PixelFormat::kRgb8;
   const float norm = 1.0f / static_cast<float>(b * b);
-  std::uint32_t* sums = column_sums_.data();
-  for (int row = 0; row < padded_h; ++row) {
-    std::fill(sums, sums + span_w, 0u);
-    for (int dy = 0; dy < b; ++dy) {
-      const int sy = std::clamp(y0 + row * b + dy, 0, image.height_px - 1);
-      const std::uint8_t* src = image.row(sy);
-      if (rgb) {
-        rgb_row_to_grey(src, luma_row_.data(), image.width_px);
-        src = luma_row_.data();
+  const auto sum_rows = [&](auto* sums) {
+    for (int row = 0; row < padded_h; ++row) {
+      std::fill(sums, sums + span_w, 0u);
+      for (int dy = 0; dy < b; ++dy) {
+        const int sy = std::clamp(y0 + row * b + dy, 0, image.height_px - 1);
+        const std::uint8_t* src = image.row(sy);
+        if (rgb) {
+          rgb_row_to_grey(src, luma_row_.data(), image.width_px);
+          src = luma_row_.data();
+        }
+        if (columns_inside) {
+          add_row(sums, src + x0, span_w);
+        } else {
+          add_row_gathered(sums, src, column_index_.data(), span_w);
+        }
       }
-      if (columns_inside) {
-        add_row(sums, src + x0, span_w);
-      } else {
-        add_row_gathered(sums, src, column_index_.data(), span_w);
-      }
+      reduce_blocks(sums, level.samples.data() + static_cast<std::ptrdiff_t>(row) * padded_w,
+                    padded_w, b, norm);
     }
-    reduce_blocks(sums, level.samples.data() + static_cast<std::ptrdiff_t>(row) * padded_w,
-                  padded_w, b, norm);
+  };
+  // Exact either way: a column sum of b <= 16 bytes fits 16 bits.
+  if (b <= 16) {
+    sum_rows(column_sums16_.data());
+  } else {
+    sum_rows(column_sums_.data());
   }
 }
 

@@ -104,6 +104,8 @@ class Retina {
   PixelPoint fixation_;
   std::vector<Level> levels_;
   std::vector<std::uint32_t> column_sums_;  ///< Per source column, summed over a block's rows.
+  /// The same for blocks of at most 16 rows (16 x 255 < 2^16): twice the lanes per vector add.
+  std::vector<std::uint16_t> column_sums16_;
   std::vector<std::int32_t> column_index_;  ///< Clamped source columns (scratch, border case).
   std::vector<std::uint8_t> luma_row_;      ///< One rgb8 row converted to grey (scratch).
 };

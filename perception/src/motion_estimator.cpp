@@ -9,14 +9,16 @@ namespace cambio::perception {
 
 namespace {
 
-float bilinear(const float* plane, int width, float x, float y) {
-  const int x0 = static_cast<int>(std::floor(x));
-  const int y0 = static_cast<int>(std::floor(y));
-  const float fx = x - static_cast<float>(x0);
-  const float fy = y - static_cast<float>(y0);
-  const float* p = plane + y0 * width + x0;
+// Bilinear sample at cell p (top-left) with fractions fx, fy.
+inline float bilinear(const float* p, int width, float fx, float fy) {
   return (1.0f - fy) * ((1.0f - fx) * p[0] + fx * p[1]) +
          fy * ((1.0f - fx) * p[width] + fx * p[width + 1]);
+}
+
+// The cell and fraction of a sample coordinate, as floor and remainder.
+inline void split_coordinate(float v, int& cell, float& frac) {
+  cell = static_cast<int>(std::floor(v));
+  frac = v - static_cast<float>(cell);
 }
 
 }  // namespace
@@ -43,6 +45,10 @@ MotionEstimator::MotionEstimator(const MotionConfig& config, double half_width_s
       static_cast<std::size_t>(width) * static_cast<std::size_t>(height + 2 * half_width_);
   rows_smooth_.assign(rows, 0.0f);
   rows_derivative_.assign(rows, 0.0f);
+  cell_x_.assign(static_cast<std::size_t>(width), 0);
+  frac_x_.assign(static_cast<std::size_t>(width), 0.0f);
+  cell_y_.assign(static_cast<std::size_t>(height), 0);
+  frac_y_.assign(static_cast<std::size_t>(height), 0.0f);
 }
 
 void MotionEstimator::filter(const Retina& retina, Frame& frame) noexcept {
@@ -84,13 +90,27 @@ bool MotionEstimator::track_level(const Frame& now, const Frame& before, int k, 
     if (2 * margin + 2 > std::min(width_, height_)) return false;
     double a11 = 0.0, a12 = 0.0, a22 = 0.0, b1 = 0.0, b2 = 0.0, rr = 0.0;
     int n = 0;
+    // The sample point (x - ux, y - uy) splits into a column part and a row part: one floor
+    // per column and per row instead of three per pixel.
+    for (int x = margin; x < width_ - margin; ++x) {
+      const auto i = static_cast<std::size_t>(x);
+      split_coordinate(static_cast<float>(x) - ux, cell_x_[i], frac_x_[i]);
+    }
     for (int y = margin; y < height_ - margin; ++y) {
+      const auto i = static_cast<std::size_t>(y);
+      split_coordinate(static_cast<float>(y) - uy, cell_y_[i], frac_y_[i]);
+    }
+    for (int y = margin; y < height_ - margin; ++y) {
+      const int row = cell_y_[static_cast<std::size_t>(y)] * width_;
+      const float fy = frac_y_[static_cast<std::size_t>(y)];
       for (int x = margin; x < width_ - margin; ++x) {
-        const float px = static_cast<float>(x) - ux;
-        const float py = static_cast<float>(y) - uy;
-        const float previous = bilinear(s_before, width_, px, py);
-        const float gx = 0.5f * (gx_now[y * width_ + x] + bilinear(gx_before, width_, px, py));
-        const float gy = 0.5f * (gy_now[y * width_ + x] + bilinear(gy_before, width_, px, py));
+        const std::ptrdiff_t cell = row + cell_x_[static_cast<std::size_t>(x)];
+        const float fx = frac_x_[static_cast<std::size_t>(x)];
+        const float previous = bilinear(s_before + cell, width_, fx, fy);
+        const float gx =
+            0.5f * (gx_now[y * width_ + x] + bilinear(gx_before + cell, width_, fx, fy));
+        const float gy =
+            0.5f * (gy_now[y * width_ + x] + bilinear(gy_before + cell, width_, fx, fy));
         const float it = s_now[y * width_ + x] - previous;
         a11 += gx * gx;
         a12 += gx * gy;

@@ -71,6 +71,12 @@ class MotionEstimator {
   bool have_previous_ = false;
   std::vector<float> rows_smooth_;  ///< Row-pass scratch, width x (height + 2 half_width).
   std::vector<float> rows_derivative_;
+  /// Per iteration of track_level: the bilinear cell and weight of every column (x - ux) and
+  /// row (y - uy), computed once instead of per pixel and per plane.
+  mutable std::vector<int> cell_x_;
+  mutable std::vector<int> cell_y_;
+  mutable std::vector<float> frac_x_;
+  mutable std::vector<float> frac_y_;
 };
 
 }  // namespace cambio::perception

@@ -60,29 +60,28 @@ template <int kWidth>
   }
 }
 
-// Strips of 16 outputs (two 8-float vectors) with the sums held in registers for every tap:
-// each tap step is two loads per side and one FMA per output vector, with no reload or store
-// of the output and no aliasing checks. kOdd odd masks and kEven even masks of the same half
+// Strips of 16 outputs (four 4-float vectors) with the sums held in registers for every tap:
+// each tap step is one load per side and one multiply-add per output vector, with no reload or
+// store of the output and no aliasing checks. kOdd odd masks and kEven even masks of the same half
 // width share the loads and the folded lo - hi / lo + hi, so one pass over the input feeds up
-// to three outputs. Per output the operation order is the one of convolve_line.
-using Vec8 = float __attribute__((vector_size(32)));
+// to three outputs. Per output the operation order is the one of convolve_line. 16-byte vectors
+// on purpose: the arch=haswell clones only dispatch on a CPU that identifies as Haswell, so the
+// default (SSE2) clone is what most machines run, and 32-byte generic vectors lower badly there.
+using Vec4 = float __attribute__((vector_size(16)));
 
-// Vec8 values are only passed between always-inline helpers of this file, never across a real
-// call, so the AVX-vs-SSE argument ABI note does not apply (popped at the end of the file).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-[[gnu::always_inline]] inline Vec8 load8(const float* p) {
-  Vec8 v;
+[[gnu::always_inline]] inline Vec4 load4(const float* p) {
+  Vec4 v;
   __builtin_memcpy(&v, p, sizeof v);
   return v;
 }
 
-[[gnu::always_inline]] inline void store8(float* p, Vec8 v) {
+[[gnu::always_inline]] inline void store4(float* p, Vec4 v) {
   __builtin_memcpy(p, &v, sizeof v);
 }
 
 constexpr int kStrip = 16;
+constexpr int kLanes = 4;
+constexpr int kParts = kStrip / kLanes;
 
 template <int kOdd, int kEven>
 [[gnu::always_inline]] inline void folded_strips(const float* in, std::ptrdiff_t in_stride,
@@ -93,43 +92,30 @@ template <int kOdd, int kEven>
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; x += kStrip) {
       const float* p = in + y * in_stride + x;
-      const Vec8 m0 = load8(p);
-      const Vec8 m1 = load8(p + 8);
-      Vec8 acc[kOut][2];
-      for (int j = 0; j < kOut; ++j) {
-        acc[j][0] = c[j][0] * m0;
-        acc[j][1] = c[j][0] * m1;
+      Vec4 acc[kOut][kParts];
+      for (int v = 0; v < kParts; ++v) {
+        const Vec4 m = load4(p + v * kLanes);
+        for (int j = 0; j < kOut; ++j) acc[j][v] = c[j][0] * m;
       }
       for (int t = 1; t <= s; ++t) {
         const float* lo = p - t * unit;
         const float* hi = p + t * unit;
-        const Vec8 lo0 = load8(lo);
-        const Vec8 lo1 = load8(lo + 8);
-        const Vec8 hi0 = load8(hi);
-        const Vec8 hi1 = load8(hi + 8);
-        if constexpr (kOdd > 0) {
-          const Vec8 d0 = lo0 - hi0;
-          const Vec8 d1 = lo1 - hi1;
-          for (int j = 0; j < kOdd; ++j) {
-            const float k = c[j][t];
-            acc[j][0] += k * d0;
-            acc[j][1] += k * d1;
+        for (int v = 0; v < kParts; ++v) {
+          const Vec4 l = load4(lo + v * kLanes);
+          const Vec4 h = load4(hi + v * kLanes);
+          if constexpr (kOdd > 0) {
+            const Vec4 d = l - h;
+            for (int j = 0; j < kOdd; ++j) acc[j][v] += c[j][t] * d;
           }
-        }
-        if constexpr (kEven > 0) {
-          const Vec8 e0 = lo0 + hi0;
-          const Vec8 e1 = lo1 + hi1;
-          for (int j = kOdd; j < kOut; ++j) {
-            const float k = c[j][t];
-            acc[j][0] += k * e0;
-            acc[j][1] += k * e1;
+          if constexpr (kEven > 0) {
+            const Vec4 e = l + h;
+            for (int j = kOdd; j < kOut; ++j) acc[j][v] += c[j][t] * e;
           }
         }
       }
       for (int j = 0; j < kOut; ++j) {
         float* q = out[j] + y * out_stride + x;
-        store8(q, acc[j][0]);
-        store8(q + 8, acc[j][1]);
+        for (int v = 0; v < kParts; ++v) store4(q + v * kLanes, acc[j][v]);
       }
     }
   }
@@ -256,7 +242,5 @@ __attribute__((target_clones("arch=haswell", "default"))) void correlate_2d(
     }
   }
 }
-
-#pragma GCC diagnostic pop
 
 }  // namespace cambio::perception

@@ -21,7 +21,7 @@ Taps Taps::from(const std::vector<double>& taps) {
 // vectorise, each tap pair is folded (even/odd masks) to halve the multiplications, and the
 // common retina widths are compile-time constants so each (row, tap) step is a few whole
 // vector instructions with no loop overhead. Column passes over packed planes (stride ==
-// width) run as one long 1-D loop per tap. target_clones builds an AVX2/FMA version next to
+// width) run as one long 1-D loop per tap. target_clones builds an AVX2 version next to
 // the baseline one, chosen at load time.
 namespace {
 
@@ -65,8 +65,9 @@ template <int kWidth>
 // store of the output and no aliasing checks. kOdd odd masks and kEven even masks of the same half
 // width share the loads and the folded lo - hi / lo + hi, so one pass over the input feeds up
 // to three outputs. Per output the operation order is the one of convolve_line. 16-byte vectors
-// on purpose: the arch=haswell clones only dispatch on a CPU that identifies as Haswell, so the
-// default (SSE2) clone is what most machines run, and 32-byte generic vectors lower badly there.
+// on purpose: the default (SSE2) clone must stay fast too, and 32-byte generic vectors lower badly
+// there. The clones dispatch on the avx2 feature (not on a CPU model such as arch=haswell, which
+// never matched this Xeon and left the AVX2 clone unused).
 using Vec4 = float __attribute__((vector_size(16)));
 
 [[gnu::always_inline]] inline Vec4 load4(const float* p) {
@@ -171,14 +172,14 @@ template <int kWidth>
 
 }  // namespace
 
-__attribute__((target_clones("arch=haswell", "default"))) void convolve_rows(
+__attribute__((target_clones("avx2", "default"))) void convolve_rows(
     const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride, int width,
     int height, const Taps& taps) noexcept {
   if (strips_one(in, in_stride, 1, out, out_stride, width, height, taps)) return;
   convolve_any(in, in_stride, 1, out, out_stride, width, height, taps);
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void convolve_columns(
+__attribute__((target_clones("avx2", "default"))) void convolve_columns(
     const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride, int width,
     int height, const Taps& taps) noexcept {
   if (in_stride == width && out_stride == width && (width * height) % kStrip == 0) {
@@ -196,7 +197,7 @@ __attribute__((target_clones("arch=haswell", "default"))) void convolve_columns(
   convolve_any(in, in_stride, in_stride, out, out_stride, width, height, taps);
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) bool convolve_rows_family(
+__attribute__((target_clones("avx2", "default"))) bool convolve_rows_family(
     const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride, int width, int height,
     const Taps& odd, float* odd_out, const Taps& even_a, float* even_a_out, const Taps& even_b,
     float* even_b_out) noexcept {
@@ -211,7 +212,7 @@ __attribute__((target_clones("arch=haswell", "default"))) bool convolve_rows_fam
   return true;
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) bool convolve_columns_pair(
+__attribute__((target_clones("avx2", "default"))) bool convolve_columns_pair(
     const float* in, std::ptrdiff_t in_stride, std::ptrdiff_t out_stride, int width, int height,
     const Taps& odd, float* odd_out, const Taps& even, float* even_out) noexcept {
   if (width % kStrip != 0 || odd.symmetry != Symmetry::kOdd || even.symmetry != Symmetry::kEven ||
@@ -224,7 +225,7 @@ __attribute__((target_clones("arch=haswell", "default"))) bool convolve_columns_
   return true;
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void correlate_2d(
+__attribute__((target_clones("avx2", "default"))) void correlate_2d(
     const float* in, std::ptrdiff_t in_stride, float* out, std::ptrdiff_t out_stride, int width,
     int height, const float* mask, int rows, int cols) noexcept {
   const int r0 = rows / 2;

@@ -15,13 +15,15 @@ void rgb_row_to_grey(const std::uint8_t* rgb, std::uint8_t* grey, int width) {
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void add_row(
-    std::uint32_t* __restrict sums, const std::uint8_t* __restrict row, int count) {
+__attribute__((target_clones("avx2", "default"))) void add_row(std::uint32_t* __restrict sums,
+                                                               const std::uint8_t* __restrict row,
+                                                               int count) {
   for (int i = 0; i < count; ++i) sums[i] += row[i];
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void add_row(
-    std::uint16_t* __restrict sums, const std::uint8_t* __restrict row, int count) {
+__attribute__((target_clones("avx2", "default"))) void add_row(std::uint16_t* __restrict sums,
+                                                               const std::uint8_t* __restrict row,
+                                                               int count) {
   for (int i = 0; i < count; ++i) sums[i] = static_cast<std::uint16_t>(sums[i] + row[i]);
 }
 
@@ -74,12 +76,12 @@ template <typename Sum>
   }
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void reduce_blocks(
+__attribute__((target_clones("avx2", "default"))) void reduce_blocks(
     const std::uint32_t* __restrict sums, float* __restrict out, int count, int scale, float norm) {
   reduce_any(sums, out, count, scale, norm);
 }
 
-__attribute__((target_clones("arch=haswell", "default"))) void reduce_blocks(
+__attribute__((target_clones("avx2", "default"))) void reduce_blocks(
     const std::uint16_t* __restrict sums, float* __restrict out, int count, int scale, float norm) {
   reduce_any(sums, out, count, scale, norm);
 }

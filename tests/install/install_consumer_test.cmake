@@ -13,7 +13,8 @@ run_step("install" ${CMAKE_COMMAND} --install ${CAMBIO_BINARY_DIR} --prefix ${pr
 run_step("configure consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WORK_DIR}/build
          -DCMAKE_PREFIX_PATH=${prefix})
 run_step("build consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
-run_step("run consumer" ${WORK_DIR}/build/cambio_consumer)
+run_step("run consumer" ${WORK_DIR}/build/cambio_consumer
+         ${prefix}/share/cambio/firmware_config/experiments/sim_default.yaml)
 if(NOT EXISTS ${prefix}/bin/cambio)
   message(FATAL_ERROR "the install prefix has no bin/cambio")
 endif()

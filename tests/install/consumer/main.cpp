@@ -1,30 +1,57 @@
-// Uses the installed HAL and config loader the way a user's driver or tool would.
+// Uses the installed libraries the way a user's driver or tool would: the HAL's types, the
+// config loader, the lockstep executor, the perception kernels and the sim backend's factory.
 #include <cstdio>
 
+#include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_loader.hpp"
+#include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/manual_clock.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
+#include "cambio/perception/gaussian_kernels.hpp"
+#include "cambio/runtime/lockstep_executor.hpp"
+#include "cambio/sim/sim_backend.hpp"
 
-int main() {
+namespace {
+class CountingLoop final : public cambio::hal::Loop {
+ public:
+  const std::string& name() const override { return name_; }
+  cambio::hal::Status update(const cambio::hal::LoopTick&) noexcept override {
+    ++cycles;
+    return cambio::hal::Status::kOk;
+  }
+  int cycles = 0;
+
+ private:
+  std::string name_ = "count";
+};
+}  // namespace
+
+int main(int argc, char** argv) {
   cambio::hal::Image image(4, 3, cambio::hal::PixelFormat::kRgb8);
-  cambio::hal::ManualClock clock;
-  clock.sleep_until_ns(42);
   cambio::hal::SeqlockChannel<double> channel;
   channel.write(1.5);
   double value = 0.0;
   channel.read(value);
-  const auto rig = cambio::config::load_rig_from_string(
-      "rig: {name: tiny}\n"
-      "joints:\n"
-      "  pan: {group: g, parent: base, axis: [0, 0, 1], min_position_deg: -90,\n"
-      "        max_position_deg: 90, max_velocity_rad_s: 1, max_acceleration_rad_s2: 10}\n"
-      "groups:\n"
-      "  g: {backend: sim, joints: [pan]}\n",
-      "consumer.yaml");
-  const bool ok = image.pixels.size() == 36 && clock.now_ns() == 42 && value == 1.5 &&
-                  rig.joints.size() == 1 && rig.joints[0].max_position_rad > 1.5707 &&
-                  rig.joints[0].max_position_rad < 1.5708;
+
+  // The experiment shipped in the prefix, with the rig and perception files it names.
+  const auto experiment = cambio::config::load_experiment(argv[argc - 1]);
+
+  cambio::hal::ManualClock clock;
+  CountingLoop loop;
+  cambio::config::LoopConfig schedule;
+  schedule.name = "count";
+  schedule.rate_hz = 100;
+  cambio::runtime::LockstepExecutor executor(clock, {{&loop, schedule}});
+  executor.configure();
+  executor.run_until_ns(1'000'000'000);
+
+  cambio::hal::BackendFactory factory;
+  cambio::sim::register_sim_backend(factory);
+
+  const bool ok = image.pixels.size() == 36 && value == 1.5 && experiment.rig.joints.size() == 15 &&
+                  !experiment.perception_path.empty() && loop.cycles == 100 && factory.has("sim") &&
+                  cambio::perception::gaussian_half_width(1.4, 3.0) == 5;
   std::printf("consumer: %s\n", ok ? "ok" : "MISMATCH");
   return ok ? 0 : 1;
 }

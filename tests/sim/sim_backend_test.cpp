@@ -103,15 +103,8 @@ struct RunResult {
 
 RunResult run_lockstep(std::uint64_t seed, double image_noise_std, double seconds) {
   auto rig = testing::load_shipped_rig();
-  for (auto& camera : rig.cameras) {
-    camera.image_noise_std = image_noise_std;
-    // Small frames keep the test quick; the geometry tests cover full size.
-    camera.width_px = 160;
-    camera.height_px = 120;
-    camera.focal_x_px = camera.focal_y_px = 138.564;
-    camera.principal_x_px = 79.5;
-    camera.principal_y_px = 59.5;
-  }
+  testing::use_small_cameras(rig);
+  for (auto& camera : rig.cameras) camera.image_noise_std = image_noise_std;
   hal::BackendOptions options;
   options.seed = seed;
   SimBackend backend(rig, testing::load_shipped_scene("distractors"), options);
@@ -159,13 +152,7 @@ TEST(SimDeterminismTest, SameSeedGivesTheSameJointTrajectoryAndImages) {
 
 TEST(SimRealtimeTest, RunsUnderTheRealtimeExecutorWithCamerasOnTheirOwnThread) {
   auto rig = testing::load_shipped_rig();
-  for (auto& camera : rig.cameras) {
-    camera.width_px = 160;
-    camera.height_px = 120;
-    camera.focal_x_px = camera.focal_y_px = 138.564;
-    camera.principal_x_px = 79.5;
-    camera.principal_y_px = 59.5;
-  }
+  testing::use_small_cameras(rig);
   hal::BackendOptions options;
   options.realtime = true;
   SimBackend backend(rig, testing::load_shipped_scene("vergence"), options);

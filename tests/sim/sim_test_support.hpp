@@ -20,6 +20,19 @@ inline config::SceneConfig load_shipped_scene(const std::string& name) {
                             ".yaml");
 }
 
+/// Shrinks every camera to 160x120 with the same 60 deg horizontal field of view (focal from
+/// 80 / tan(30 deg)), keeping the principal point centred: small frames keep tests quick, and
+/// the geometry tests cover the full size.
+inline void use_small_cameras(config::RigConfig& rig) {
+  for (auto& camera : rig.cameras) {
+    camera.width_px = 160;
+    camera.height_px = 120;
+    camera.focal_x_px = camera.focal_y_px = 138.564;
+    camera.principal_x_px = 79.5;
+    camera.principal_y_px = 59.5;
+  }
+}
+
 inline void set_initial(config::RigConfig& rig, const std::string& joint, double position_rad) {
   for (auto& j : rig.joints) {
     if (j.name == joint) j.initial_position_rad = position_rad;

@@ -146,7 +146,11 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
           ++stats.overruns;
           if (scheduled.schedule.overrun == config::OverrunPolicy::kSkip) {
             while (deadline_ns(start, next, rate_hz) < finished) ++next;
-            stats.skipped_cycles += next - k - 1;
+            // Only deadlines inside the run count as skipped; an overrun of the last cycle
+            // passes deadlines that were never due.
+            std::uint64_t due_end = next;
+            while (due_end > k + 1 && deadline_ns(start, due_end - 1, rate_hz) >= end) --due_end;
+            stats.skipped_cycles += due_end - k - 1;
           }
         }
         k = next;

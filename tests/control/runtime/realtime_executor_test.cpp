@@ -57,6 +57,40 @@ TEST(RealtimeExecutor, RunsEachLoopAtItsRateForTheDuration) {
   EXPECT_GE(executor.statistics()[0].wakeup_latency.count(), 200u);
 }
 
+// Overruns on chosen cycles by sleeping through them.
+class OverrunningLoop final : public hal::Loop {
+ public:
+  OverrunningLoop(std::uint64_t cycle_a, std::uint64_t cycle_b, std::int64_t sleep_ns)
+      : cycle_a_(cycle_a), cycle_b_(cycle_b), sleep_ns_(sleep_ns) {}
+  const std::string& name() const override { return name_; }
+  hal::Status update(const hal::LoopTick& tick) noexcept override {
+    if (tick.cycle == cycle_a_ || tick.cycle == cycle_b_) {
+      std::this_thread::sleep_for(std::chrono::nanoseconds(sleep_ns_));
+    }
+    return hal::Status::kOk;
+  }
+
+ private:
+  std::string name_ = "overrunning";
+  std::uint64_t cycle_a_;
+  std::uint64_t cycle_b_;
+  std::int64_t sleep_ns_;
+};
+
+TEST(RealtimeExecutor, SkipPolicyAccountsForEveryDeadlineOfTheRunExactlyOnce) {
+  hal::MonotonicClock clock;
+  // 100 Hz for 100 ms: deadlines 0..9. Cycle 2 sleeps 25 ms (past deadlines 3 and 4, which are
+  // skipped); the last cycle, 9, sleeps past the end of the run, which skips nothing.
+  OverrunningLoop loop(2, 9, 25'000'000);
+  RealtimeExecutor executor(clock, {{&loop, schedule("overrunning", 100)}}, {});
+  const std::atomic<bool> never{false};
+  executor.run(never, 100'000'000, false);
+  const auto& stats = executor.statistics()[0];
+  EXPECT_EQ(stats.cycles + stats.skipped_cycles, 10u);
+  EXPECT_GE(stats.skipped_cycles, 2u);
+  EXPECT_GE(stats.overruns, 2u);
+}
+
 std::atomic<bool> g_sigint{false};
 extern "C" void on_sigint(int) {
   g_sigint.store(true);

@@ -20,6 +20,11 @@ constexpr std::string_view kBase = "base";
 constexpr double kBaselineTolerance_m = 1e-6;
 /// Highest loop or physics rate accepted; beyond it a "rate" is a typo, not a plan.
 constexpr double kMaxRate_hz = 100'000.0;
+// The joint loop's watchdogs: 20 control periods for targets and 20 joint periods for feedback
+// at the default rates; an hour bounds them (a loop that waits longer is not watching).
+constexpr double kDefaultCommandTimeout_s = 0.1;
+constexpr double kDefaultFeedbackTimeout_s = 0.02;
+constexpr double kMaxJointTimeout_s = 3600.0;
 
 /// Counts issues so a consistency check runs only on values that were read cleanly (and does
 /// not pile a second message on a value already reported).
@@ -285,6 +290,13 @@ LoopConfig read_loop(const std::string& name, MapReader& r) {
   loop.overrun = r.choice_or("overrun", {"skip", "catch_up"}, "skip") == "catch_up"
                      ? OverrunPolicy::kCatchUp
                      : OverrunPolicy::kSkip;
+  if (name == "joint") {
+    const Range timeout_range{0.0, kMaxJointTimeout_s, true, false};
+    loop.command_timeout_s =
+        r.number_or("command_timeout_s", kDefaultCommandTimeout_s, timeout_range);
+    loop.feedback_timeout_s =
+        r.number_or("feedback_timeout_s", kDefaultFeedbackTimeout_s, timeout_range);
+  }
   r.finish();
   return loop;
 }
@@ -489,7 +501,8 @@ std::vector<std::string> names_of(const auto& items) {
 
 std::vector<LoopConfig> default_loops() {
   return {
-      LoopConfig{"joint", 1000.0, 0, -1, OverrunPolicy::kSkip},
+      LoopConfig{"joint", 1000.0, 0, -1, OverrunPolicy::kSkip, kDefaultCommandTimeout_s,
+                 kDefaultFeedbackTimeout_s},
       LoopConfig{"control", 200.0, 0, -1, OverrunPolicy::kSkip},
       LoopConfig{"perception", 60.0, 0, -1, OverrunPolicy::kSkip},
       LoopConfig{"camera", 30.0, 0, -1, OverrunPolicy::kSkip},

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "../sim/sim_test_support.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/perception/sensory_servo.hpp"
 #include "cambio/sim/sim_backend.hpp"
@@ -39,12 +40,12 @@ StereoShot shoot(double left_pan_rad, double right_pan_rad, double image_noise_s
   for (auto& camera : rig.cameras) camera.image_noise_std = image_noise_std;
   sim::testing::set_initial(rig, "left_eye_pan", left_pan_rad);
   sim::testing::set_initial(rig, "right_eye_pan", right_pan_rad);
-  hal::BackendOptions options;
-  options.seed = 11;
-  sim::SimBackend backend(rig, sim::testing::load_shipped_scene("vergence"), options);
-  backend.physics().activate();
-  auto left = backend.make_camera("left_eye");
-  auto right = backend.make_camera("right_eye");
+  hal::ManualClock clock;
+  auto backend =
+      sim::testing::make_sim(rig, sim::testing::load_shipped_scene("vergence"), clock, 11);
+  backend->activate();
+  auto left = backend->make_camera("left_eye");
+  auto right = backend->make_camera("right_eye");
   StereoShot shot;
   shot.left_k = left->info().intrinsics;
   shot.right_k = right->info().intrinsics;
@@ -53,7 +54,7 @@ StereoShot shoot(double left_pan_rad, double right_pan_rad, double image_noise_s
   EXPECT_EQ(left->grab(shot.left), hal::Status::kOk);
   EXPECT_EQ(right->grab(shot.right), hal::Status::kOk);
   hal::Image rgb;
-  auto& truth = backend.ground_truth();
+  auto& truth = backend->ground_truth();
   truth.render("left_eye", 0, 0, sim::ViewOptions{}, rgb, &shot.left_depth_m);
   shot.X_WL = truth.X_WC("left_eye");
   shot.X_WR = truth.X_WC("right_eye");

@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
@@ -146,14 +148,15 @@ int run_render_command(std::span<const std::string> args) {
   std::filesystem::create_directories(out_dir);
   const auto started = std::chrono::steady_clock::now();
 
-  hal::BackendOptions options;
-  options.scene_path = scene.source_file;
+  // Nothing runs in time here: the backend gets a clock that stays at zero.
+  hal::ManualClock clock;
   sim::MjcfOptions mjcf_options;
   mjcf_options.offscreen_width_px = kOverviewWidthPx;
   mjcf_options.offscreen_height_px = kOverviewHeightPx;
   std::unique_ptr<sim::SimBackend> backend;
   try {
-    backend = std::make_unique<sim::SimBackend>(rig, scene, options, mjcf_options);
+    backend = std::make_unique<sim::SimBackend>(rig, scene, config::hardware_description(rig),
+                                                hal::BackendContext{&clock}, mjcf_options);
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -164,7 +167,7 @@ int run_render_command(std::span<const std::string> args) {
     if (!mjcf) throw std::runtime_error("could not write " + parser.value("mjcf"));
   }
   // The pose is the initial state: render it as it is, without letting gravity act first.
-  backend->physics().activate();
+  backend->activate();
 
   std::vector<std::string> written;
   // The eyes through the HAL camera pipeline, exactly what perception would receive.

@@ -14,8 +14,10 @@
 #include <mujoco/mujoco.h>
 
 #include "argument_parser.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
@@ -119,16 +121,22 @@ int run_sim_bench_command(std::span<const std::string> args) {
     int nq = 0;
     int nv = 0;
   };
+  const hal::HardwareInfo hardware = config::hardware_description(rig);
+  hal::ManualClock clock;  // The benchmark steps physics itself; stamps come from the step count.
   auto measure_physics = [&](const config::SceneConfig& scene) -> PhysicsFigure {
-    sim::SimBackend backend(rig, scene, hal::BackendOptions{});
+    sim::SimBackend backend(rig, scene, hardware, hal::BackendContext{&clock});
     Exerciser exerciser;
     for (const auto& group : rig.groups) {
       if (group.backend != "sim") continue;
       exerciser.groups.push_back(backend.make_joint_group(group.name));
       exerciser.commands.emplace_back(group.joints.size());
     }
+    backend.activate();
     auto& physics = backend.physics();
-    physics.activate();
+    // Drives walk switch-on disabled -> operation enabled one transition per step: without
+    // this the joints would hold still and the figure would measure an idle robot.
+    for (auto& group : exerciser.groups) (void)group->request(hal::DriveRequest::kEnable);
+    for (int k = 0; k < 3; ++k) (void)physics.step_once(0);
     const double dt = backend.world().timestep_s();
     std::uint64_t steps = 0;
     std::uint64_t contacts = 0;
@@ -160,8 +168,8 @@ int run_sim_bench_command(std::span<const std::string> args) {
   // Cameras: the pipeline (HAL grab of both eyes, a physics step between pairs so every pair is
   // a new frame) against the raw MuJoCo loop, alternated in rounds so that both see the same
   // machine load.
-  sim::SimBackend backend(rig, camera_scene, hal::BackendOptions{});
-  backend.physics().activate();
+  sim::SimBackend backend(rig, camera_scene, hardware, hal::BackendContext{&clock});
+  backend.activate();
   auto left = backend.make_camera(rig.stereo->left_camera);
   auto right = backend.make_camera(rig.stereo->right_camera);
   const auto& intrinsics = left->info().intrinsics;
@@ -194,7 +202,7 @@ int run_sim_bench_command(std::span<const std::string> args) {
   auto raw_round = [&](double budget_s) {
     int pairs = 0;
     const auto start = Clock::now();
-    std::lock_guard<std::mutex> lock(renderer.mutex());
+    const sim::Renderer::Lease lease(renderer, sim::Renderer::Lease::Mode::kWait);
     while (seconds_since(start) < budget_s) {
       renderer.render_raw_reference(left_id, intrinsics.width_px, intrinsics.height_px, raw.data());
       renderer.render_raw_reference(right_id, intrinsics.width_px, intrinsics.height_px,

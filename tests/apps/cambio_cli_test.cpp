@@ -3,7 +3,9 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <set>
+
+#include <nlohmann/json.hpp>
 
 #include "run_cambio.hpp"
 
@@ -16,12 +18,9 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// The integer after `"key": ` in a JSON text (first occurrence), or -1.
-long long json_integer(const std::string& text, const std::string& key) {
-  const std::string pattern = "\"" + key + "\": ([0-9]+)";
-  std::smatch match;
-  if (!std::regex_search(text, match, std::regex(pattern))) return -1;
-  return std::stoll(match[1].str());
+nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  return nlohmann::json::parse(file);  // Throws (failing the test) on a missing or invalid file.
 }
 
 TEST(CambioCli, HelpListsTheCommands) {
@@ -55,14 +54,18 @@ TEST(CambioCli, EverySubcommandHasHelp) {
 TEST(CambioCli, LoopBenchJsonHasTheDocumentedKeys) {
   const auto result = run_cambio("loop-bench --rate-hz 2000 --duration-s 0.2 --json");
   ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report.at("loops").size(), 1u) << result.output;
+  const nlohmann::json& loop = report.at("loops")[0];
+  EXPECT_EQ(loop.at("rate_hz"), 2000.0);
   for (const char* key :
-       {"\"loops\": [", "\"name\"", "\"rate_hz\": 2000", "\"p50_us\"", "\"p99_us\"", "\"p999_us\"",
-        "\"max_us\"", "\"overruns\"", "\"allocations_per_cycle\": 0"}) {
-    EXPECT_TRUE(contains(result.output, key)) << key << " missing from:\n" << result.output;
+       {"name", "p50_us", "p99_us", "p999_us", "max_us", "overruns", "torn_reads"}) {
+    EXPECT_TRUE(loop.contains(key)) << key << " missing from:\n" << result.output;
   }
+  EXPECT_EQ(loop.at("allocations_per_cycle"), 0.0);
+  EXPECT_TRUE(report.at("warnings").is_array());
   // 0.2 s at 2 kHz is 400 deadlines: each one either ran or was skipped after an overrun.
-  EXPECT_EQ(json_integer(result.output, "cycles") + json_integer(result.output, "skipped_cycles"),
-            400)
+  EXPECT_EQ(loop.at("cycles").get<long long>() + loop.at("skipped_cycles").get<long long>(), 400)
       << result.output;
 }
 
@@ -71,12 +74,16 @@ TEST(CambioCli, LoopBenchRunsTheRigsLoops) {
       "loop-bench --config firmware_config/rigs/cambio.yaml --set loops.joint.rate_hz=500 "
       "--duration-s 0.2 --json --no-lock-memory");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_TRUE(contains(result.output, "\"name\": \"joint\", \"rate_hz\": 500, \"cycles\": "))
-      << result.output;
-  EXPECT_EQ(json_integer(result.output, "cycles") + json_integer(result.output, "skipped_cycles"),
-            100)
-      << result.output;
-  EXPECT_TRUE(contains(result.output, "\"name\": \"camera\"")) << result.output;
+  const nlohmann::json report = nlohmann::json::parse(result.output);
+  std::set<std::string> names;
+  for (const auto& loop : report.at("loops")) {
+    names.insert(loop.at("name").get<std::string>());
+    if (loop.at("name") != "joint") continue;
+    EXPECT_EQ(loop.at("rate_hz"), 500.0);
+    EXPECT_EQ(loop.at("cycles").get<long long>() + loop.at("skipped_cycles").get<long long>(), 100)
+        << result.output;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"joint", "control", "perception", "camera"}));
 }
 
 TEST(CambioCli, RunRefusesAMissingExperiment) {
@@ -108,10 +115,11 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   EXPECT_TRUE(contains(result.output, "camera frames grabbed: 30")) << result.output;
   EXPECT_TRUE(std::filesystem::exists(out_dir / "left_eye.png"));
   EXPECT_TRUE(std::filesystem::exists(out_dir / "right_eye.png"));
-  std::ifstream json(out_dir / "summary.json");
-  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-  EXPECT_TRUE(contains(text, "\"allocations_per_cycle\": 0")) << text;
-  EXPECT_FALSE(contains(text, "\"vergence\"")) << "task=hold runs no vergence loop: " << text;
+  const nlohmann::json summary = read_json(out_dir / "summary.json");
+  EXPECT_FALSE(summary.contains("vergence")) << "task=hold runs no vergence loop";
+  EXPECT_EQ(summary.at("stereo_pairs"), 15);
+  EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
+  EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);
 }
 
 // The main job end to end: the right eye starts 7 deg off and must verge on the textured sphere
@@ -123,9 +131,21 @@ TEST(CambioCli, TheSimDefaultVergesOnTheTexturedSphere) {
                                  out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "): verged")) << result.output;
-  std::ifstream json(out_dir / "summary.json");
-  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-  EXPECT_TRUE(contains(text, "\"vergence\": {")) << text;
+  const nlohmann::json summary = read_json(out_dir / "summary.json");
+  EXPECT_TRUE(summary.contains("vergence"));
+  // The real loops of the main job (joint, vergence control, camera, SSM perception, physics)
+  // make no heap allocation after configure(), and none declared that it must.
+  std::set<std::string> loops;
+  for (const auto& loop : summary.at("loops")) {
+    loops.insert(loop.at("name").get<std::string>());
+    EXPECT_GT(loop.at("cycles").get<long long>(), 0) << loop.dump();
+    EXPECT_EQ(loop.at("allocations").get<long long>(), 0) << loop.dump();
+    EXPECT_FALSE(loop.at("allocation_exempt").get<bool>()) << loop.dump();
+    EXPECT_EQ(loop.at("faults").get<long long>(), 0) << loop.dump();
+  }
+  EXPECT_EQ(loops, (std::set<std::string>{"joint", "control", "camera", "perception", "physics"}));
+  EXPECT_EQ(summary.at("allocation_gate").at("passed"), true);
+  EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
 }
 
 TEST(CambioCli, RunReportsExperimentMistakesWithTheirLine) {

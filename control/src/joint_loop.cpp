@@ -65,6 +65,7 @@ void JointLoop::activate() {
   }
   pending_requests_.store(0);
   reset_requested_ = false;
+  enable_after_reset_ = false;
   if (params_.enable_on_activate) forward(hal::DriveRequest::kEnable);
 }
 
@@ -81,11 +82,15 @@ void JointLoop::forward(hal::DriveRequest request) noexcept {
 }
 
 void JointLoop::apply_requests(std::uint32_t pending) noexcept {
-  // A reset comes before anything else so that "reset, then enable" works in one cycle's
-  // requests; the drives walk the states over the following cycles.
+  // "Reset, then enable" asked together: a drive takes one request at a time (a controlword),
+  // so the enable waits until every drive has come out of its fault (read_groups()).
   if ((pending & bit_of(hal::DriveRequest::kFaultReset)) != 0) {
     forward(hal::DriveRequest::kFaultReset);
     reset_requested_ = true;
+    if ((pending & bit_of(hal::DriveRequest::kEnable)) != 0) {
+      enable_after_reset_ = true;
+      pending &= ~bit_of(hal::DriveRequest::kEnable);
+    }
   }
   if ((pending & bit_of(hal::DriveRequest::kQuickStop)) != 0) {
     forward(hal::DriveRequest::kQuickStop);
@@ -124,6 +129,8 @@ hal::Status JointLoop::read_groups(std::int64_t now_ns) noexcept {
   if (reset_requested_ && !any_fault_now) {
     std::fill(latched_bits_.begin(), latched_bits_.end(), 0u);
     reset_requested_ = false;
+    if (enable_after_reset_) forward(hal::DriveRequest::kEnable);
+    enable_after_reset_ = false;
   }
   for (std::size_t j = 0; j < state_scratch_.size(); ++j) {
     state_scratch_[j].status_bits |= latched_bits_[j];

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "recording_loop.hpp"
 
@@ -134,6 +135,35 @@ TEST(LockstepExecutor, RunReportsProgressAndCollectsLoopFaults) {
   EXPECT_EQ(stats.faults, 20u);
   EXPECT_EQ(stats.fault_message, "trace full");
   EXPECT_EQ(loop.deactivate_calls, 1);
+}
+
+// A loop whose work calls something that throws (a library's control law).
+class ThrowingLoop final : public hal::Loop {
+ public:
+  const std::string& name() const override { return name_; }
+  hal::Status update(const hal::LoopTick& tick) noexcept override {
+    return guarded([&] {
+      if (tick.cycle % 2 == 1) throw std::runtime_error("singular interaction matrix");
+      return hal::Status::kOk;
+    });
+  }
+
+ private:
+  std::string name_ = "servo";
+};
+
+TEST(LockstepExecutor, AnExceptionInsideAGuardedUpdateIsAFaultOfThatLoopNotATermination) {
+  ThrowingLoop loop;
+  LockstepExecutor executor({{&loop, schedule(100)}});
+  const std::atomic<bool> never{false};
+  executor.run(never, 100'000'000, {});
+  const LoopStatistics& stats = executor.statistics()[0];
+  EXPECT_EQ(stats.cycles, 10u);
+  EXPECT_EQ(stats.failed_updates, 5u);
+  EXPECT_EQ(stats.faults, 5u);
+  EXPECT_EQ(stats.fault_message, "singular interaction matrix");
+  EXPECT_NE(format_statistics_table(&stats, 1).find("singular interaction matrix"),
+            std::string::npos);
 }
 
 TEST(DeadlineNs, IsExactForLongRuns) {

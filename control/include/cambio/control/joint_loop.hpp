@@ -50,8 +50,9 @@ class JointLoop final : public hal::Loop {
   void deactivate() noexcept override;
 
   /// Asks every joint for a lifecycle transition, applied at the start of the next cycle.
-  /// kFaultReset also clears the loop's latched bits once no drive reports a fault. Thread-safe,
-  /// wait-free (any thread: the decision layer, a console, a test).
+  /// kFaultReset also clears the loop's latched bits once no drive reports a fault; an enable
+  /// asked together with it is sent only then (a drive takes one request at a time).
+  /// Thread-safe, wait-free (any thread: the decision layer, a console, a test).
   void request(hal::DriveRequest request) noexcept;
 
   int joint_count() const { return joint_count_; }
@@ -85,7 +86,8 @@ class JointLoop final : public hal::Loop {
   JointTargetFrame targets_frame_{};  // The last clean copy of the targets.
   JointStateFrame state_frame_{};
   std::atomic<std::uint32_t> pending_requests_{0};  // Bit per hal::DriveRequest.
-  bool reset_requested_ = false;  // Clear the latches once the drives report no fault.
+  bool reset_requested_ = false;     // Clear the latches once the drives report no fault.
+  bool enable_after_reset_ = false;  // Then ask them to enable.
   std::atomic<std::uint64_t> stale_cycles_{0};
   std::atomic<std::uint64_t> fault_hold_cycles_{0};
   std::atomic<std::uint64_t> feedback_stale_cycles_{0};

@@ -2,6 +2,7 @@
 // problem is reported at once with file:line:col.
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
@@ -12,8 +13,6 @@
 namespace cambio::config {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::array<double, 3> read_rgb(MapReader& map, std::string_view key,
                                std::array<double, 3> fallback) {
@@ -184,8 +183,8 @@ SceneConfig read_scene(MapReader root, const std::string& file) {
   if (auto overview = root.optional_map("overview_camera")) {
     scene.overview.xyz_m = overview->vector3_or("xyz_m", scene.overview.xyz_m);
     scene.overview.look_at_m = overview->vector3_or("look_at_m", scene.overview.look_at_m);
-    scene.overview.fovy_rad =
-        overview->angle_rad_or("fovy", scene.overview.fovy_rad, Range{0.0, kPi, true, true});
+    scene.overview.fovy_rad = overview->angle_rad_or("fovy", scene.overview.fovy_rad,
+                                                     Range{0.0, std::numbers::pi, true, true});
     overview->finish();
   }
   std::set<std::string> names;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include <mujoco/mujoco.h>
 
@@ -15,7 +16,6 @@ namespace {
 // Closed-loop bandwidth and damping of the physics joints' position servo.
 constexpr double kDriveBandwidthHz = 10.0;
 constexpr double kDriveDampingRatio = 1.0;
-constexpr double kTwoPi = 6.28318530717958647692;
 
 // Distinct, reproducible seeds per noise source from one run seed (splitmix64).
 std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t stream) {
@@ -39,7 +39,7 @@ PhysicsLoop::PhysicsLoop(World& world, std::uint64_t seed) : world_(world) {
   // Gains from each joint's inertia at the initial pose (diagonal of the mass matrix, rotor
   // armature included): a critically damped second-order loop at kDriveBandwidthHz.
   mj_forward(model, data);
-  const double omega = kTwoPi * kDriveBandwidthHz;
+  const double omega = 2 * std::numbers::pi * kDriveBandwidthHz;
   for (const auto& joint : world_.joints()) {
     const double inertia = data->qM[model->dof_Madr[joint.dof_address]];
     gains_.push_back({inertia * omega * omega, 2.0 * kDriveDampingRatio * inertia * omega});

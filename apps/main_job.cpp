@@ -119,13 +119,13 @@ void MainJob::build_loops() {
 
   if (experiment_.task == config::ControlTask::kVergence) {
     if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
-    const bool right_verges = experiment_.vergence.verging_eye == config::EyeSide::kRight;
+    const bool right_verges = experiment_.vergence.verging_eye == hal::Eye::kRight;
     const auto& verging_camera =
         *rig.find_camera(right_verges ? rig.stereo->right_camera : rig.stereo->left_camera);
     const auto& dominant_camera =
         *rig.find_camera(right_verges ? rig.stereo->left_camera : rig.stereo->right_camera);
     control::VergenceParams params;
-    params.verging_eye = right_verges ? control::Eye::kRight : control::Eye::kLeft;
+    params.verging_eye = experiment_.vergence.verging_eye;
     params.focal_px = verging_camera.focal_x_px;
     params.gain = experiment_.vergence.gain;
     params.min_confidence = experiment_.vergence.min_confidence;

@@ -315,8 +315,7 @@ int run_perceive_command(std::span<const std::string> args) {
        << "  \"retina\": {\"levels\": " << config.retina.levels
        << ", \"width_px\": " << config.retina.width_px
        << ", \"height_px\": " << config.retina.height_px
-       << ", \"apron_px\": " << servo->retina(perception::Eye::kLeft).apron()
-       << "},\n  \"levels\": [\n";
+       << ", \"apron_px\": " << servo->retina(hal::Eye::kLeft).apron() << "},\n  \"levels\": [\n";
   for (int k = 0; k < s.levels; ++k) {
     const auto& l = d.per_level[static_cast<std::size_t>(k)];
     const auto& g = s.geometry[0][static_cast<std::size_t>(k)];

@@ -47,8 +47,8 @@ ExperimentConfig load_experiment(const std::string& path,
                     : ControlTask::kHold;
   if (auto vergence = experiment.optional_map("vergence")) {
     config.vergence.verging_eye =
-        vergence->choice_or("verging_eye", {"left", "right"}, "right") == "left" ? EyeSide::kLeft
-                                                                                 : EyeSide::kRight;
+        vergence->choice_or("verging_eye", {"left", "right"}, "right") == "left" ? hal::Eye::kLeft
+                                                                                 : hal::Eye::kRight;
     config.vergence.gain = vergence->number_or("gain", 0.5, {0.0, 1.0, true, false});
     config.vergence.min_confidence =
         vergence->number_or("min_confidence", 0.3, Range::closed(0, 1));

@@ -1,14 +1,13 @@
 #pragma once
 
-#include <cstdint>
+#include "cambio/hal/eye.hpp"
 
 namespace cambio::control {
 
-enum class Eye : std::uint8_t { kLeft, kRight };
-
 struct VergenceParams {
-  Eye verging_eye = Eye::kRight;  ///< The other eye is dominant: it keeps its fixation point.
-  double focal_px = 0.0;          ///< Focal length of the verging eye (pixels).
+  /// The other eye is dominant: it keeps its fixation point.
+  hal::Eye verging_eye = hal::Eye::kRight;
+  double focal_px = 0.0;  ///< Focal length of the verging eye (pixels).
   /// Fraction of the measured angular error corrected per new measurement (0, 1]. Below 1 the
   /// loop stays stable despite the camera-to-measurement dead time.
   double gain = 0.5;

@@ -82,6 +82,10 @@ TEST(VergenceController, RefusesBadParameters) {
   p = params(hal::Eye::kRight);
   p.focal_px = 0;
   EXPECT_THROW(VergenceController{p}, std::invalid_argument);
+  // The gains have no defaults of their own (the experiment config holds them): unset is refused.
+  p = VergenceParams{};
+  p.focal_px = kFocalPx;
+  EXPECT_THROW(VergenceController{p}, std::invalid_argument);
 }
 
 }  // namespace

@@ -21,7 +21,9 @@ enum class ControlTask : std::uint8_t {
   kVergence,  ///< The paper's experiment 1: verge one eye onto the dominant eye's fixation.
 };
 
-/// The vergence controller's settings (control/vergence_controller.hpp).
+/// The vergence controller's settings (control/vergence_controller.hpp). The member initialisers
+/// are the defaults for keys an experiment file leaves out, and the only copy of them: apps/ maps
+/// these onto control::VergenceParams, which has none of its own.
 struct VergenceTaskConfig {
   hal::Eye verging_eye = hal::Eye::kRight;
   double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.

@@ -34,12 +34,6 @@ class CleanRead {
   std::size_t start_;
 };
 
-std::string join(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return text;
-}
-
 /// `expected one of a, b, c, found "x"` with a "did you mean" when one name is close.
 std::string unknown_name_message(std::string_view what, const std::string& name,
                                  const std::vector<std::string>& known) {
@@ -50,16 +44,9 @@ std::string unknown_name_message(std::string_view what, const std::string& name,
     message += " (" + join(known) + ")";
   }
   message += ", found " + in_quotes(name);
-  std::size_t best = std::max<std::size_t>(2, name.size() / 4) + 1;
-  std::string suggestion;
-  for (const auto& candidate : known) {
-    const std::size_t distance = edit_distance(name, candidate);
-    if (distance < best) {
-      best = distance;
-      suggestion = candidate;
-    }
+  if (const auto suggestion = closest_name(name, known)) {
+    message += "; did you mean " + in_quotes(*suggestion) + "?";
   }
-  if (!suggestion.empty()) message += "; did you mean " + in_quotes(suggestion) + "?";
   return message;
 }
 

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "argument_parser.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
@@ -28,14 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string resolve_rig(const std::string& argument) {
-  if (std::filesystem::exists(argument)) return argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  return std::filesystem::exists(shipped) ? shipped.string() : argument;
 }
 
 /// Every sim group of the rig, commanded along slow sines inside the joints' limits, so the
@@ -74,7 +66,8 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double seconds = parser.number("seconds", 2.0);
   if (!(seconds > 0.0)) throw UsageError("sim-bench: --seconds must be > 0");
 
-  auto rig_or_none = load_rig_or_report(resolve_rig(parser.value("config", "cambio")), {});
+  auto rig_or_none = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config", "cambio")), {});
   if (!rig_or_none) return kExitBadInput;
   config::RigConfig rig = *rig_or_none;
   if (!rig.stereo) {
@@ -103,9 +96,10 @@ int run_sim_bench_command(std::span<const std::string> args) {
   }
   config::SceneConfig physics_scene, camera_scene;
   try {
-    physics_scene = config::load_scene(config::resolve_scene_path(parser.value("scene", "table")));
-    camera_scene =
-        config::load_scene(config::resolve_scene_path(parser.value("camera-scene", "vergence")));
+    physics_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("scene", "table")));
+    camera_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("camera-scene", "vergence")));
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <numbers>
 #include <set>
@@ -614,26 +612,6 @@ RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
                                const std::vector<ConfigOverride>& overrides) {
   ConfigDocument document = ConfigDocument::from_string(yaml, name, overrides);
   return read_rig(document.root(), document.file());
-}
-
-std::string shipped_config_dir() {
-  if (const char* from_env = std::getenv("CAMBIO_CONFIG_DIR"); from_env && *from_env) {
-    return from_env;
-  }
-  namespace fs = std::filesystem;
-  const fs::path install_dir = CAMBIO_INSTALL_CONFIG_DIR;
-  std::error_code error;
-  if (fs::is_directory(install_dir, error)) {
-    // <prefix>/share/cambio/firmware_config: the program is installed when it runs from under
-    // <prefix>; a build tree's program uses the source tree even if an older install exists.
-    const fs::path prefix = install_dir.parent_path().parent_path().parent_path();
-    const fs::path program = fs::read_symlink("/proc/self/exe", error);
-    if (!error) {
-      const auto relative = program.lexically_relative(prefix);
-      if (!relative.empty() && *relative.begin() != "..") return install_dir.string();
-    }
-  }
-  return CAMBIO_SOURCE_CONFIG_DIR;
 }
 
 }  // namespace cambio::config

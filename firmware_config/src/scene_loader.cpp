@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
 
 namespace cambio::config {
@@ -211,15 +210,6 @@ SceneConfig load_scene_from_string(const std::string& yaml, const std::string& n
                                    const std::vector<ConfigOverride>& overrides) {
   auto document = ConfigDocument::from_string(yaml, name, overrides);
   return read_scene(document.root(), name);
-}
-
-std::string resolve_scene_path(const std::string& scene_argument) {
-  if (std::filesystem::exists(scene_argument)) return scene_argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(shipped_config_dir()) / "scenes" / scene_argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  if (std::filesystem::exists(shipped)) return shipped.string();
-  return scene_argument;  // The loader reports it as unreadable, naming the path.
 }
 
 }  // namespace cambio::config

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "cambio/config/map_reader.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/perception/gaussian_kernels.hpp"
 #include "cambio/perception/operator_bank.hpp"
 #include "cambio/perception/retina.hpp"
@@ -182,12 +182,7 @@ SsmConfig load_ssm_config(const std::string& path,
 }
 
 std::string default_ssm_config_path() {
-  for (const char* dir : {CAMBIO_SOURCE_CONFIG_DIR, CAMBIO_INSTALL_CONFIG_DIR}) {
-    const std::filesystem::path path = std::filesystem::path(dir) / "perception" / "ssm.yaml";
-    std::error_code error;
-    if (std::filesystem::exists(path, error)) return path.string();
-  }
-  return {};
+  return config::find_shipped_config("perception/ssm.yaml");
 }
 
 }  // namespace cambio::perception

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "sim_camera.hpp"
 #include "sim_joint_group.hpp"
 #include "sim_touch_sensor.hpp"
@@ -22,7 +23,7 @@ void register_sim_backend(hal::BackendFactory& factory) {
       "sim", [](const config::RigConfig& rig, const hal::BackendOptions& options) {
         config::SceneConfig scene;
         if (!options.scene_path.empty()) {
-          scene = config::load_scene(config::resolve_scene_path(options.scene_path));
+          scene = config::load_scene(config::resolve_config_argument("scenes", options.scene_path));
         } else {
           scene.name = "empty";
         }

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 
 #include "rig_test_support.hpp"
@@ -101,26 +100,6 @@ TEST(ShippedRigs, PanTiltLoadsAndTakesTheDefaultLoops) {
     EXPECT_EQ(loop->overrun, OverrunPolicy::kSkip);
   }
   EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
-}
-
-TEST(ShippedRigs, ShippedConfigDirHoldsThem) {
-  EXPECT_NO_THROW(load_rig(shipped_config_dir() + "/rigs/cambio.yaml"));
-}
-
-TEST(ShippedRigs, ConfigDirEnvironmentVariableWins) {
-  const char* previous = std::getenv("CAMBIO_CONFIG_DIR");
-  const std::string saved = previous ? previous : "";
-  ::setenv("CAMBIO_CONFIG_DIR", "/somewhere/else", 1);
-  EXPECT_EQ(shipped_config_dir(), "/somewhere/else");
-  if (previous) {
-    ::setenv("CAMBIO_CONFIG_DIR", saved.c_str(), 1);
-  } else {
-    ::unsetenv("CAMBIO_CONFIG_DIR");
-  }
-  // From the build tree the source tree's directory serves.
-  if (previous == nullptr) {
-    EXPECT_EQ(shipped_config_dir(), std::string(CAMBIO_SOURCE_DIR) + "/firmware_config");
-  }
 }
 
 TEST(SmallRig, LoadsClean) {

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "../sim/sim_test_support.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/perception/sensory_servo.hpp"
 #include "cambio/sim/sim_backend.hpp"
@@ -186,8 +187,8 @@ INSTANTIATE_TEST_SUITE_P(EyesAndNoise, SimTruth,
 TEST(SimTruthCoarseToFine, ParallelStartOfTheMainJobIsMeasuredInTheFovea) {
   // Both eyes panned 4.764 deg (the main job's start), fixations at the image centres: the
   // vergence error is the full ~68 px; the experiment's SSM config must find it.
-  const SsmConfig config = load_ssm_config(
-      std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/perception/vergence.yaml", {});
+  const SsmConfig config =
+      load_ssm_config(config::find_shipped_config("perception/vergence.yaml"), {});
   for (const double noise : {0.0, 3.0}) {
     const StereoShot shot = shoot(kLeftPanRad, kLeftPanRad, noise);
     const PixelPoint centre{shot.left.width_px / 2, shot.left.height_px / 2};

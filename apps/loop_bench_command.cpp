@@ -11,6 +11,7 @@
 #include "cambio/runtime/realtime_executor.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "json_output.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
@@ -25,19 +26,6 @@ class IdleLoop final : public hal::Loop {
  private:
   std::string name_;
 };
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += ' ';
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
 
 }  // namespace
 
@@ -109,15 +97,15 @@ int run_loop_bench_command(std::span<const std::string> args) {
 
   const auto& stats = executor.statistics();
   if (json) {
-    std::cout << "{\"duration_s\": " << duration_s << ", \"loops\": [";
-    for (std::size_t i = 0; i < stats.size(); ++i) {
-      std::cout << (i == 0 ? "" : ", ") << runtime::statistics_json(stats[i]);
+    // Each loop's object is the runtime's statistics_json(), taken in as it is written there.
+    Json loop_objects = Json::array();
+    for (const auto& loop : stats) {
+      loop_objects.push_back(Json::parse(runtime::statistics_json(loop)));
     }
-    std::cout << "], \"warnings\": [";
-    for (std::size_t i = 0; i < warnings.size(); ++i) {
-      std::cout << (i == 0 ? "" : ", ") << json_string(warnings[i]);
-    }
-    std::cout << "]}\n";
+    const Json report = {{"duration_s", as_printed(duration_s, "%g")},
+                         {"loops", loop_objects},
+                         {"warnings", warnings}};
+    std::cout << json_text(report);
   } else {
     std::cout << runtime::format_statistics_table(stats.data(), stats.size());
   }

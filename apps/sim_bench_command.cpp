@@ -19,6 +19,7 @@
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "json_output.hpp"
 
 namespace cambio::app {
 
@@ -221,16 +222,22 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const std::string gl = renderer.gl_renderer_name();
 
   if (parser.flag_set("json")) {
-    std::printf(
-        "{\"physics_steps_per_s\": %.0f, \"physics_scene\": \"%s\", \"nq\": %d, \"nv\": %d, "
-        "\"mean_contacts\": %.2f, \"physics_robot_only_steps_per_s\": %.0f, \"width\": %d, "
-        "\"height\": %d, \"camera_stereo_fps\": %.1f, "
-        "\"raw_mujoco_stereo_fps\": %.1f, \"camera_vs_raw\": %.3f, \"camera_scene\": \"%s\", "
-        "\"format\": \"%s\", \"gl_renderer\": \"%s\"}\n",
-        physics_steps_per_s, physics_scene.name.c_str(), nq, nv, mean_contacts,
-        robot_only.steps_per_s, intrinsics.width_px, intrinsics.height_px, camera_fps, raw_fps,
-        camera_fps / raw_fps, camera_scene.name.c_str(),
-        left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8", gl.c_str());
+    const Json figures = {
+        {"physics_steps_per_s", std::llround(physics_steps_per_s)},
+        {"physics_scene", physics_scene.name},
+        {"nq", nq},
+        {"nv", nv},
+        {"mean_contacts", as_printed(mean_contacts, "%.2f")},
+        {"physics_robot_only_steps_per_s", std::llround(robot_only.steps_per_s)},
+        {"width", intrinsics.width_px},
+        {"height", intrinsics.height_px},
+        {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
+        {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
+        {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
+        {"camera_scene", camera_scene.name},
+        {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
+        {"gl_renderer", gl}};
+    std::cout << json_text(figures);
   } else {
     std::printf("sim-bench (%s)\n", gl.c_str());
     std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",

@@ -1,6 +1,7 @@
 #include "builtin_backends.hpp"
 
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/sim/sim_backend.hpp"
 
 namespace cambio::app {
@@ -9,7 +10,7 @@ void register_builtin_backends(hal::BackendFactory& factory,
                                const config::ExperimentConfig& experiment) {
   config::SceneConfig scene;
   if (!experiment.scene_path.empty()) {
-    scene = config::load_scene(config::resolve_scene_path(experiment.scene_path));
+    scene = config::load_scene(config::resolve_config_argument("scenes", experiment.scene_path));
   } else {
     scene.name = "empty";
   }

@@ -13,6 +13,7 @@
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "controller_params.hpp"
+#include "json_output.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
@@ -95,12 +96,12 @@ int run_loop_bench_command(std::span<const std::string> args) {
 
   const auto& stats = executor.statistics();
   if (json) {
-    nlohmann::json report;
-    report["duration_s"] = duration_s;
-    report["loops"] = nlohmann::json::array();
-    for (const auto& loop : stats) report["loops"].push_back(runtime::statistics_json(loop));
-    report["warnings"] = executor.warnings();
-    std::cout << report.dump(2) << "\n";
+    Json loop_objects = Json::array();
+    for (const auto& loop : stats) loop_objects.push_back(runtime::statistics_json(loop));
+    const Json report = {{"duration_s", as_printed(duration_s, "%g")},
+                         {"loops", loop_objects},
+                         {"warnings", executor.warnings()}};
+    std::cout << json_text(report);
   } else {
     std::cout << runtime::format_statistics_table(stats.data(), stats.size());
   }

@@ -122,7 +122,7 @@ void MainJob::build_loops() {
   if (experiment_.task == config::ControlTask::kVergence) {
     if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
     const control::VergenceParams params = vergence_params(experiment_, hardware_);
-    const bool right_verges = params.verging_eye == control::Eye::kRight;
+    const bool right_verges = params.verging_eye == hal::Eye::kRight;
     const auto& verging = hardware_.cameras[right_verges ? stereo->right : stereo->left];
     const auto& dominant = hardware_.cameras[right_verges ? stereo->left : stereo->right];
     auto loop = std::make_unique<control::VergenceLoop>(

@@ -15,6 +15,7 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "cambio/sim/sim_backend.hpp"
@@ -33,15 +34,6 @@ struct JointPose {
   std::string joint;
   double position_rad = 0.0;
 };
-
-/// A rig path as given, or a shipped rig's name (`cambio`, `pan_tilt`).
-std::string resolve_rig_path(const std::string& argument) {
-  if (std::filesystem::exists(argument)) return argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  return std::filesystem::exists(shipped) ? shipped.string() : argument;
-}
 
 /// "<name>=<value>" with value in radians, or in degrees with a "deg" suffix.
 JointPose parse_pose(const std::string& option, const std::string& text) {
@@ -113,13 +105,13 @@ int run_render_command(std::span<const std::string> args) {
   }
   for (const auto& text : parser.values("pose")) poses.push_back(parse_pose("--pose", text));
 
-  const auto rig_or_none =
-      load_rig_or_report(resolve_rig_path(parser.value("config", "cambio")), overrides);
+  const auto rig_or_none = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config", "cambio")), overrides);
   if (!rig_or_none) return kExitBadInput;
   config::RigConfig rig = *rig_or_none;
   config::SceneConfig scene;
   try {
-    scene = config::load_scene(config::resolve_scene_path(parser.value("scene")));
+    scene = config::load_scene(config::resolve_config_argument("scenes", parser.value("scene")));
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;

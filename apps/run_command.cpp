@@ -5,13 +5,12 @@
 #include <iostream>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "argument_parser.hpp"
 #include "builtin_backends.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "image_files.hpp"
+#include "json_output.hpp"
 #include "main_job.hpp"
 #include "progress_reporter.hpp"
 #include "stop_signal.hpp"
@@ -19,9 +18,8 @@
 namespace cambio::app {
 namespace {
 
-nlohmann::json summary_json(const config::ExperimentConfig& experiment,
-                            const MainJobResult& result) {
-  nlohmann::json json;
+Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result) {
+  Json json;
   json["experiment"] = experiment.name;
   json["rig"] = experiment.rig.name;
   json["executor"] = result.realtime ? "realtime" : "lockstep";
@@ -48,8 +46,8 @@ nlohmann::json summary_json(const config::ExperimentConfig& experiment,
                         {"final_disparity_px", result.vergence->disparity_px},
                         {"verging_eye_target_rad", result.vergence->verging_target_rad}};
   }
-  nlohmann::json over_budget = nlohmann::json::array();
-  json["loops"] = nlohmann::json::array();
+  Json over_budget = Json::array();
+  json["loops"] = Json::array();
   for (const auto& loop : result.loops) {
     json["loops"].push_back(runtime::statistics_json(loop));
     if (!runtime::passes_allocation_gate(loop)) over_budget.push_back(loop.name);
@@ -143,7 +141,7 @@ int run_run_command(std::span<const std::string> args) {
       if (frames[i]->sequence == 0) continue;
       write_png((out_dir / (job->cameras()[i].name + ".png")).string(), *frames[i]);
     }
-    std::ofstream(out_dir / "summary.json") << summary_json(experiment, result).dump(2) << "\n";
+    std::ofstream(out_dir / "summary.json") << json_text(summary_json(experiment, result));
     std::cerr << "cambio run: wrote " << out_dir.string() << "\n";
   }
   return exit_code;

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -17,10 +16,12 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "json_output.hpp"
 
 namespace cambio::app {
 
@@ -30,14 +31,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string resolve_rig(const std::string& argument) {
-  if (std::filesystem::exists(argument)) return argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  return std::filesystem::exists(shipped) ? shipped.string() : argument;
 }
 
 /// Every sim group of the rig, commanded along slow sines inside the joints' limits, so the
@@ -76,7 +69,8 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double seconds = parser.number("seconds", 2.0);
   if (!(seconds > 0.0)) throw UsageError("sim-bench: --seconds must be > 0");
 
-  auto rig_or_none = load_rig_or_report(resolve_rig(parser.value("config", "cambio")), {});
+  auto rig_or_none = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config", "cambio")), {});
   if (!rig_or_none) return kExitBadInput;
   config::RigConfig rig = *rig_or_none;
   if (!rig.stereo) {
@@ -105,9 +99,10 @@ int run_sim_bench_command(std::span<const std::string> args) {
   }
   config::SceneConfig physics_scene, camera_scene;
   try {
-    physics_scene = config::load_scene(config::resolve_scene_path(parser.value("scene", "table")));
-    camera_scene =
-        config::load_scene(config::resolve_scene_path(parser.value("camera-scene", "vergence")));
+    physics_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("scene", "table")));
+    camera_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("camera-scene", "vergence")));
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -235,16 +230,22 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const std::string gl = renderer.gl_renderer_name();
 
   if (parser.flag_set("json")) {
-    std::printf(
-        "{\"physics_steps_per_s\": %.0f, \"physics_scene\": \"%s\", \"nq\": %d, \"nv\": %d, "
-        "\"mean_contacts\": %.2f, \"physics_robot_only_steps_per_s\": %.0f, \"width\": %d, "
-        "\"height\": %d, \"camera_stereo_fps\": %.1f, "
-        "\"raw_mujoco_stereo_fps\": %.1f, \"camera_vs_raw\": %.3f, \"camera_scene\": \"%s\", "
-        "\"format\": \"%s\", \"gl_renderer\": \"%s\"}\n",
-        physics_steps_per_s, physics_scene.name.c_str(), nq, nv, mean_contacts,
-        robot_only.steps_per_s, intrinsics.width_px, intrinsics.height_px, camera_fps, raw_fps,
-        camera_fps / raw_fps, camera_scene.name.c_str(),
-        left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8", gl.c_str());
+    const Json figures = {
+        {"physics_steps_per_s", std::llround(physics_steps_per_s)},
+        {"physics_scene", physics_scene.name},
+        {"nq", nq},
+        {"nv", nv},
+        {"mean_contacts", as_printed(mean_contacts, "%.2f")},
+        {"physics_robot_only_steps_per_s", std::llround(robot_only.steps_per_s)},
+        {"width", intrinsics.width_px},
+        {"height", intrinsics.height_px},
+        {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
+        {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
+        {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
+        {"camera_scene", camera_scene.name},
+        {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
+        {"gl_renderer", gl}};
+    std::cout << json_text(figures);
   } else {
     std::printf("sim-bench (%s)\n", gl.c_str());
     std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <numbers>
 #include <set>
@@ -39,12 +37,6 @@ class CleanRead {
   std::size_t start_;
 };
 
-std::string join(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return text;
-}
-
 /// `expected one of a, b, c, found "x"` with a "did you mean" when one name is close.
 std::string unknown_name_message(std::string_view what, const std::string& name,
                                  const std::vector<std::string>& known) {
@@ -55,16 +47,9 @@ std::string unknown_name_message(std::string_view what, const std::string& name,
     message += " (" + join(known) + ")";
   }
   message += ", found " + in_quotes(name);
-  std::size_t best = std::max<std::size_t>(2, name.size() / 4) + 1;
-  std::string suggestion;
-  for (const auto& candidate : known) {
-    const std::size_t distance = edit_distance(name, candidate);
-    if (distance < best) {
-      best = distance;
-      suggestion = candidate;
-    }
+  if (const auto suggestion = closest_name(name, known)) {
+    message += "; did you mean " + in_quotes(*suggestion) + "?";
   }
-  if (!suggestion.empty()) message += "; did you mean " + in_quotes(suggestion) + "?";
   return message;
 }
 
@@ -640,26 +625,6 @@ RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
                                const std::vector<ConfigOverride>& overrides) {
   ConfigDocument document = ConfigDocument::from_string(yaml, name, overrides);
   return read_rig(document.root(), document.file());
-}
-
-std::string shipped_config_dir() {
-  if (const char* from_env = std::getenv("CAMBIO_CONFIG_DIR"); from_env && *from_env) {
-    return from_env;
-  }
-  namespace fs = std::filesystem;
-  const fs::path install_dir = CAMBIO_INSTALL_CONFIG_DIR;
-  std::error_code error;
-  if (fs::is_directory(install_dir, error)) {
-    // <prefix>/share/cambio/firmware_config: the program is installed when it runs from under
-    // <prefix>; a build tree's program uses the source tree even if an older install exists.
-    const fs::path prefix = install_dir.parent_path().parent_path().parent_path();
-    const fs::path program = fs::read_symlink("/proc/self/exe", error);
-    if (!error) {
-      const auto relative = program.lexically_relative(prefix);
-      if (!relative.empty() && *relative.begin() != "..") return install_dir.string();
-    }
-  }
-  return CAMBIO_SOURCE_CONFIG_DIR;
 }
 
 }  // namespace cambio::config

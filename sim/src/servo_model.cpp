@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace cambio::sim {
-
-namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-}
 
 ServoParams ServoParams::from_joint(const config::JointConfig& joint, double step_s) {
   ServoParams params;
@@ -177,7 +174,8 @@ double ServoModel::encoder_velocity_rad_s() const {
 
 double ServoModel::quantise(double position_rad) const noexcept {
   if (params_.encoder_counts_per_rev <= 0) return position_rad;
-  const double count_rad = kTwoPi / static_cast<double>(params_.encoder_counts_per_rev);
+  const double count_rad =
+      2 * std::numbers::pi / static_cast<double>(params_.encoder_counts_per_rev);
   return std::round(position_rad / count_rad) * count_rad;
 }
 

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "cambio/hal/luma.hpp"
+
 namespace cambio::sim {
 
 SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer, CameraFrames& frames,
@@ -37,8 +39,7 @@ void SimCamera::convert_rows(const std::uint8_t* rgb_bottom_up, int width, int h
       std::memcpy(target, source, row_bytes);
     } else {
       for (int x = 0; x < width; ++x) {
-        const std::uint32_t r = source[3 * x], g = source[3 * x + 1], b = source[3 * x + 2];
-        target[x] = static_cast<std::uint8_t>((77 * r + 150 * g + 29 * b + 128) >> 8);
+        target[x] = hal::luma_bt601(source[3 * x], source[3 * x + 1], source[3 * x + 2]);
       }
     }
   }

@@ -26,7 +26,7 @@ class SimCamera final : public hal::Camera {
   /// another thread (ground truth) holds the renderer at that moment.
   hal::Status grab(hal::Image& out) override;
 
-  /// The grey-level conversion used for kGrey8 (ITU-R BT.601 luma, integer weights).
+  /// Flips the renderer's bottom-up rgb rows into `out`; kGrey8 through hal::luma_bt601.
   static void convert_rows(const std::uint8_t* rgb_bottom_up, int width, int height,
                            hal::PixelFormat format, hal::Image& out) noexcept;
 

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "../sim/sim_test_support.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/manual_clock.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/perception/sensory_servo.hpp"
@@ -127,8 +129,8 @@ void report(const char* what, double noise, PixelPoint fl, const Measurement& m)
   }
 }
 
-constexpr double kLeftPanRad = 4.764 * 3.14159265358979 / 180.0;  // Onto the sphere.
-constexpr double kVergedRightPanRad = 11.6 * 3.14159265358979 / 180.0;
+constexpr double kLeftPanRad = 4.764 * std::numbers::pi / 180.0;  // Onto the sphere.
+constexpr double kVergedRightPanRad = 11.6 * std::numbers::pi / 180.0;
 // Tolerances, from the measured figures (printed by each case). Rows aligned to within 0.25 px:
 // errors up to 0.19 px without noise and 0.2 px with noise 3 (the renderer point-samples the
 // texture without anti-aliasing, and the sphere is slanted and curved under the 9 x 9 window),
@@ -186,8 +188,8 @@ INSTANTIATE_TEST_SUITE_P(EyesAndNoise, SimTruth,
 TEST(SimTruthCoarseToFine, ParallelStartOfTheMainJobIsMeasuredInTheFovea) {
   // Both eyes panned 4.764 deg (the main job's start), fixations at the image centres: the
   // vergence error is the full ~68 px; the experiment's SSM config must find it.
-  const SsmConfig config = load_ssm_config(
-      std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/perception/vergence.yaml", {});
+  const SsmConfig config =
+      load_ssm_config(config::find_shipped_config("perception/vergence.yaml"), {});
   for (const double noise : {0.0, 3.0}) {
     const StereoShot shot = shoot(kLeftPanRad, kLeftPanRad, noise);
     const PixelPoint centre{shot.left.width_px / 2, shot.left.height_px / 2};

@@ -2,6 +2,7 @@
 #include "cambio/sim/servo_model.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -128,7 +129,7 @@ TEST(ServoModelTest, EncoderQuantisesToItsResolution) {
   ServoParams p = params(0.0);
   p.encoder_counts_per_rev = 4096;
   ServoModel servo(p, 1, 0.0);
-  const double count = 2.0 * M_PI / 4096.0;
+  const double count = 2 * std::numbers::pi / 4096.0;
   servo.observe(0.3);
   EXPECT_NEAR(std::remainder(servo.encoder_position_rad(), count), 0.0, 1e-12);
   EXPECT_NEAR(servo.encoder_position_rad(), 0.3, count / 2 + 1e-12);

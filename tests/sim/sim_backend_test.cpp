@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <thread>
 #include <vector>
 
@@ -287,7 +288,7 @@ TEST(SimJointGroupTest, ArmsTrackTheirServoThroughPhysicsAndEncodersQuantise) {
   std::vector<hal::JointState> states(targets.size());
   std::int64_t stamp = 0;
   ASSERT_EQ(arm->read(states, stamp), hal::Status::kOk);
-  const double count = 2.0 * M_PI / 65536.0;
+  const double count = 2 * std::numbers::pi / 65536.0;
   for (std::size_t k = 0; k < targets.size(); ++k) {
     const auto& name = arm->info().joints[k];
     const double truth = backend.ground_truth().joint_position_rad(name);

@@ -9,6 +9,7 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/clock.hpp"
 #include "cambio/hal/image.hpp"
 #include "cambio/sim/sim_backend.hpp"
@@ -16,13 +17,11 @@
 namespace cambio::sim::testing {
 
 inline config::RigConfig load_shipped_rig(const std::string& name = "cambio") {
-  return config::load_rig(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name +
-                          ".yaml");
+  return config::load_rig(config::find_shipped_config("rigs/" + name + ".yaml"));
 }
 
 inline config::SceneConfig load_shipped_scene(const std::string& name) {
-  return config::load_scene(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/scenes/" + name +
-                            ".yaml");
+  return config::load_scene(config::find_shipped_config("scenes/" + name + ".yaml"));
 }
 
 /// Shrinks every camera to 160x120 with the same 60 deg horizontal field of view (focal from

@@ -76,8 +76,8 @@ std::string format_statistics_table(const LoopStatistics* stats, std::size_t cou
   return out;
 }
 
-nlohmann::json statistics_json(const LoopStatistics& s) {
-  nlohmann::json json;
+nlohmann::ordered_json statistics_json(const LoopStatistics& s) {
+  nlohmann::ordered_json json;
   json["name"] = s.name;
   json["rate_hz"] = s.rate_hz;
   json["cycles"] = s.cycles;

@@ -63,6 +63,6 @@ bool passes_allocation_gate(const LoopStatistics& stats);
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count);
 /// One JSON object for a loop: name, rate_hz, cycles, wake-up p50_us, p99_us, p999_us, max_us,
 /// overruns, allocations (per cycle, total, exempt), torn_reads, faults, execution p50/p99/max.
-nlohmann::json statistics_json(const LoopStatistics& stats);
+nlohmann::ordered_json statistics_json(const LoopStatistics& stats);
 
 }  // namespace cambio::runtime

@@ -5,12 +5,15 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "argument_parser.hpp"
 #include "cambio/config/rig_loader.hpp"
-#include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "controller_params.hpp"
+#include "json_output.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
@@ -25,19 +28,6 @@ class IdleLoop final : public hal::Loop {
  private:
   std::string name_;
 };
-
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += ' ';
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
 
 }  // namespace
 
@@ -87,37 +77,31 @@ int run_loop_bench_command(std::span<const std::string> args) {
     schedules.push_back(loop);
   }
 
+  const bool json = parser.flag_set("json");
+  runtime::RealtimeExecutor executor(
+      {}, {.lock_memory = !parser.flag_set("no-lock-memory"), .print_warnings = !json});
   std::vector<IdleLoop> loops;
   loops.reserve(schedules.size());
-  std::vector<runtime::ScheduledLoop> scheduled;
   for (const auto& schedule : schedules) {
     loops.emplace_back(schedule.name);
-    scheduled.push_back({&loops.back(), schedule});
+    executor.add_loop({&loops.back(), schedule_of(schedule)});
   }
 
   const auto& stop = install_stop_signal_handlers();
-  hal::MonotonicClock clock;
-  runtime::RealtimeExecutor executor(clock, scheduled,
-                                     {.lock_memory = !parser.flag_set("no-lock-memory")});
-  const bool json = parser.flag_set("json");
   if (!json) {
     std::cerr << "loop-bench: running " << schedules.size() << " loop(s) for " << duration_s
               << " s (Ctrl-C stops early)\n";
   }
-  const auto warnings =
-      executor.run(stop, static_cast<std::int64_t>(duration_s * 1e9), /*print_warnings=*/!json);
+  executor.run(stop, static_cast<std::int64_t>(duration_s * 1e9));
 
   const auto& stats = executor.statistics();
   if (json) {
-    std::cout << "{\"duration_s\": " << duration_s << ", \"loops\": [";
-    for (std::size_t i = 0; i < stats.size(); ++i) {
-      std::cout << (i == 0 ? "" : ", ") << runtime::statistics_json(stats[i]);
-    }
-    std::cout << "], \"warnings\": [";
-    for (std::size_t i = 0; i < warnings.size(); ++i) {
-      std::cout << (i == 0 ? "" : ", ") << json_string(warnings[i]);
-    }
-    std::cout << "]}\n";
+    Json loop_objects = Json::array();
+    for (const auto& loop : stats) loop_objects.push_back(runtime::statistics_json(loop));
+    const Json report = {{"duration_s", as_printed(duration_s, "%g")},
+                         {"loops", loop_objects},
+                         {"warnings", executor.warnings()}};
+    std::cout << json_text(report);
   } else {
     std::cout << runtime::format_statistics_table(stats.data(), stats.size());
   }

@@ -3,46 +3,42 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "cambio/hal/manual_clock.hpp"
+#include "cambio/config/hardware_description.hpp"
+#include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "controller_params.hpp"
 
 namespace cambio::app {
 namespace {
 
-// The joint loop holds position if the control loop's targets are older than this.
-constexpr double kCommandTimeoutS = 0.1;
+// Backends that drive real hardware: a run that uses one is paced by the wall clock.
+bool is_hardware_backend(const std::string& backend) {
+  return backend == "socketcan";
+}
 
-/// The control loop when the task is to hold the initial pose: the joint loop's limits, rate
-/// limits and watchdog still act on every cycle.
-class PoseHoldLoop final : public hal::Loop {
- public:
-  PoseHoldLoop(control::JointTargetFrame pose, hal::SeqlockChannel<control::JointTargetFrame>& out)
-      : pose_(pose), out_(out) {}
-  const std::string& name() const override { return name_; }
-  hal::Status update(const hal::LoopTick& tick) noexcept override {
-    pose_.stamp_ns = tick.now_ns;
-    out_.write(pose_);
-    return hal::Status::kOk;
+std::size_t camera_index(const hal::HardwareInfo& hardware, const std::string& name) {
+  for (std::size_t i = 0; i < hardware.cameras.size(); ++i) {
+    if (hardware.cameras[i].name == name) return i;
   }
-
- private:
-  std::string name_ = "control";
-  control::JointTargetFrame pose_;
-  hal::SeqlockChannel<control::JointTargetFrame>& out_;
-};
-
-const config::LoopConfig& loop_schedule(const config::RigConfig& rig, const std::string& name) {
-  const config::LoopConfig* loop = rig.find_loop(name);
-  if (loop == nullptr) throw std::runtime_error("the rig defines no '" + name + "' loop");
-  return *loop;
+  throw std::runtime_error("stereo camera '" + name + "' is not a rig camera");
 }
 
 }  // namespace
 
 MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory)
-    : experiment_(experiment) {
+    : experiment_(experiment), hardware_(config::hardware_description(experiment.rig)) {
+  bool on_hardware = false;
+  for (const auto& group : hardware_.groups) on_hardware |= is_hardware_backend(group.backend);
+  realtime_ = on_hardware || experiment_.executor == config::ExecutorKind::kRealtime;
+  if (realtime_) {
+    executor_ = std::make_unique<runtime::RealtimeExecutor>(
+        std::vector<runtime::ScheduledLoop>{},
+        runtime::RealtimeOptions{experiment_.rig.runtime.lock_memory, true});
+  } else {
+    executor_ = std::make_unique<runtime::LockstepExecutor>();
+  }
   build_backends(factory);
   build_loops();
 }
@@ -50,26 +46,38 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
 MainJob::~MainJob() = default;
 
 void MainJob::build_backends(const hal::BackendFactory& factory) {
-  const config::RigConfig& rig = experiment_.rig;
-  const hal::BackendOptions options{experiment_.scene_path, experiment_.seed,
-                                    experiment_.executor == config::ExecutorKind::kRealtime};
+  const hal::BackendContext context{&executor_->clock(), experiment_.seed, realtime_};
   // One backend instance per backend name, shared by the groups and cameras naming it.
   auto backend_for = [&](const std::string& name,
                          const std::string& requested_by) -> hal::Backend& {
     auto& slot = backends_[name];
-    if (!slot) slot = factory.make(name, rig, options, requested_by);
+    if (!slot) slot = factory.make(name, hardware_, context, requested_by);
     return *slot;
   };
-  for (const auto& group : rig.groups) {
+  for (const auto& camera : hardware_.cameras) {
+    cameras_.push_back(
+        backend_for(camera.backend, "camera '" + camera.name + "'").make_camera(camera.name));
+  }
+  for (const auto& group : hardware_.groups) {
     groups_.push_back(backend_for(group.backend, "joint group '" + group.name + "'")
                           .make_joint_group(group.name));
     joint_order_.insert(joint_order_.end(), group.joints.begin(), group.joints.end());
   }
-  for (const auto& camera : rig.cameras) {
-    cameras_.push_back(
-        backend_for(camera.backend, "camera '" + camera.name + "'").make_camera(camera.name));
-  }
   if (backends_.empty()) throw std::runtime_error("the rig names no joint group and no camera");
+
+  // The sim models the whole robot: a group another backend drives is followed there, so the
+  // sim's cameras see what the drives did.
+  const auto sim = backends_.find("sim");
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    hal::JointGroup* driven = groups_[g].get();
+    if (sim != backends_.end() && hardware_.groups[g].backend != "sim") {
+      taps_.push_back(std::make_unique<hal::JointStateTap>(*groups_[g]));
+      sim->second->follow_group(hardware_.groups[g], *taps_.back());
+      driven = taps_.back().get();
+    }
+    driven_groups_.push_back(driven);
+  }
+  for (auto& [name, backend] : backends_) backend->configure();
 }
 
 int MainJob::joint_index(const std::string& joint_name) const {
@@ -85,136 +93,120 @@ void MainJob::build_loops() {
   control::JointTargetFrame pose;
   for (const auto& joint_name : joint_order_) {
     pose.commands[static_cast<std::size_t>(pose.count++)] = {
-        hal::CommandMode::kPosition, rig.find_joint(joint_name)->initial_position_rad};
+        hal::CommandMode::kPosition, hardware_.find_joint(joint_name)->initial_position_rad};
   }
-  std::vector<hal::JointGroup*> groups;
-  for (const auto& group : groups_) groups.push_back(group.get());
-  joint_loop_ = std::make_unique<control::JointLoop>(groups, targets_, states_, kCommandTimeoutS);
+  joint_loop_ = std::make_unique<control::JointLoop>(driven_groups_, targets_, states_,
+                                                     joint_loop_params(rig));
 
   std::vector<hal::Camera*> cameras;
   for (const auto& camera : cameras_) cameras.push_back(camera.get());
-  camera_loop_ = std::make_unique<CameraLoop>(cameras);
-  for (std::size_t i = 0; i < cameras_.size(); ++i) {
-    frame_readers_.push_back(
-        std::make_unique<LatestFrameCamera>(cameras_[i]->info(), camera_loop_->frames(i)));
+  std::optional<perception::StereoPairIndices> stereo;
+  if (hardware_.stereo) {
+    stereo = perception::StereoPairIndices{camera_index(hardware_, hardware_.stereo->left_camera),
+                                           camera_index(hardware_, hardware_.stereo->right_camera)};
   }
+  camera_loop_ = std::make_unique<perception::CameraLoop>(cameras, stereo);
 
   // Perception runs whenever the rig has a stereo pair.
-  auto camera_index = [&](const std::string& name) {
-    for (std::size_t i = 0; i < rig.cameras.size(); ++i) {
-      if (rig.cameras[i].name == name) return i;
-    }
-    throw std::runtime_error("stereo camera '" + name + "' is not a rig camera");
-  };
-  if (rig.stereo) {
+  if (stereo) {
     const std::string ssm_path = experiment_.perception_path.empty()
                                      ? perception::default_ssm_config_path()
                                      : experiment_.perception_path;
     const perception::SsmConfig ssm =
         ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
     perception_loop_ = std::make_unique<perception::SsmServer>(
-        "perception", *frame_readers_[camera_index(rig.stereo->left_camera)],
-        *frame_readers_[camera_index(rig.stereo->right_camera)], ssm);
+        "perception", camera_loop_->stereo_frames(), hardware_.cameras[stereo->left],
+        hardware_.cameras[stereo->right], ssm);
   }
 
   if (experiment_.task == config::ControlTask::kVergence) {
     if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
-    const bool right_verges = experiment_.vergence.verging_eye == config::EyeSide::kRight;
-    const auto& verging_camera =
-        *rig.find_camera(right_verges ? rig.stereo->right_camera : rig.stereo->left_camera);
-    const auto& dominant_camera =
-        *rig.find_camera(right_verges ? rig.stereo->left_camera : rig.stereo->right_camera);
-    control::VergenceParams params;
-    params.verging_eye = right_verges ? control::Eye::kRight : control::Eye::kLeft;
-    params.focal_px = verging_camera.focal_x_px;
-    params.gain = experiment_.vergence.gain;
-    params.min_confidence = experiment_.vergence.min_confidence;
-    params.max_step_rad = experiment_.vergence.max_step_rad;
+    const control::VergenceParams params = vergence_params(experiment_, hardware_);
+    const bool right_verges = params.verging_eye == hal::Eye::kRight;
+    const auto& verging = hardware_.cameras[right_verges ? stereo->right : stereo->left];
+    const auto& dominant = hardware_.cameras[right_verges ? stereo->left : stereo->right];
     auto loop = std::make_unique<control::VergenceLoop>(
-        control::VergenceController(params), pose, joint_index(verging_camera.parent),
-        joint_index(dominant_camera.parent), perception_loop_->summaries(), targets_);
+        control::VergenceController(params), pose, joint_index(verging.parent_frame),
+        joint_index(dominant.parent_frame), perception_loop_->summaries(), targets_);
     vergence_loop_ = loop.get();
     control_loop_ = std::move(loop);
   } else {
-    control_loop_ = std::make_unique<PoseHoldLoop>(pose, targets_);
+    control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
+  }
+
+  executor_->add_loop({joint_loop_.get(), loop_schedule(rig, "joint")});
+  executor_->add_loop({control_loop_.get(), loop_schedule(rig, "control")});
+  executor_->add_loop({camera_loop_.get(), loop_schedule(rig, "camera")});
+  if (perception_loop_) {
+    executor_->add_loop({perception_loop_.get(), loop_schedule(rig, "perception")});
+  }
+  for (auto& [name, backend] : backends_) {
+    for (const hal::BackendLoop& backend_loop : backend->loops()) {
+      executor_->add_loop(
+          {backend_loop.loop, runtime::LoopSchedule{backend_loop.rate_hz, backend_loop.priority}});
+    }
   }
 }
 
 MainJobResult MainJob::run(const std::atomic<bool>& stop,
                            const std::function<void(double, double)>& progress) {
-  const config::RigConfig& rig = experiment_.rig;
-  std::vector<runtime::ScheduledLoop> scheduled = {
-      {joint_loop_.get(), loop_schedule(rig, "joint")},
-      {control_loop_.get(), loop_schedule(rig, "control")},
-      {camera_loop_.get(), loop_schedule(rig, "camera")},
-  };
-  if (perception_loop_)
-    scheduled.push_back({perception_loop_.get(), loop_schedule(rig, "perception")});
-  for (auto& [name, backend] : backends_) {
-    for (const hal::BackendLoop& backend_loop : backend->loops()) {
-      config::LoopConfig schedule;
-      schedule.name = backend_loop.loop->name();
-      schedule.rate_hz = backend_loop.rate_hz;
-      schedule.priority = backend_loop.priority;
-      scheduled.push_back({backend_loop.loop, schedule});
-    }
-  }
-
   MainJobResult result;
-  hal::Clock& clock = backends_.begin()->second->clock();
+  result.realtime = realtime_;
   const auto total_ns = static_cast<std::int64_t>(experiment_.duration_s * 1e9);
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall_elapsed_s = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
 
-  if (experiment_.executor == config::ExecutorKind::kRealtime) {
-    runtime::RealtimeExecutor executor(clock, scheduled, {rig.runtime.lock_memory});
-    const std::int64_t start_ns = clock.now_ns();
-    executor.run(stop, total_ns);
-    result.loops = executor.statistics();
-    result.simulated_s = static_cast<double>(clock.now_ns() - start_ns) * 1e-9;
-  } else {
-    auto* sim_clock = dynamic_cast<hal::ManualClock*>(&clock);
-    if (sim_clock == nullptr) {
-      throw std::runtime_error("the lockstep executor needs simulated time, but backend '" +
-                               backends_.begin()->first +
-                               "' runs on the wall clock; set experiment.executor: realtime");
+  // Backends are deactivated (drives quick-stopped and disabled) however the run ends.
+  struct DeactivateBackends {
+    decltype(backends_)& backends;
+    ~DeactivateBackends() {
+      for (auto& [name, backend] : backends) backend->deactivate();
     }
-    runtime::LockstepExecutor executor(*sim_clock, scheduled);
-    executor.configure();
-    const std::int64_t start_ns = sim_clock->now_ns();
-    constexpr std::int64_t kChunkNs = 100'000'000;
-    std::int64_t done = 0;
-    while (done < total_ns && !stop.load()) {
-      done = std::min(total_ns, done + kChunkNs);
-      executor.run_until_ns(start_ns + done);
-      progress(static_cast<double>(done) * 1e-9, wall_elapsed_s());
-    }
-    executor.deactivate();
-    result.loops = executor.statistics();
-    result.simulated_s = static_cast<double>(done) * 1e-9;
-  }
+  } deactivate{backends_};
+  for (auto& [name, backend] : backends_) backend->activate();
+  const std::int64_t done_ns =
+      executor_->run(stop, total_ns, [&](double done_s) { progress(done_s, wall_elapsed_s()); });
+
+  result.loops = executor_->statistics();
+  result.simulated_s = static_cast<double>(done_ns) * 1e-9;
   result.wall_s = wall_elapsed_s();
   result.stopped_by_signal = stop.load();
   result.camera_frames = camera_loop_->frames_grabbed();
+  result.stereo_pairs = camera_loop_->pairs_published();
   result.watchdog_cycles = joint_loop_->stale_cycles();
+  result.fault_hold_cycles = joint_loop_->fault_hold_cycles();
+  control::JointStateFrame states;
+  if (states_.read(states)) result.fault_latched_at_end = states.fault_latched;
   if (perception_loop_) {
+    result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
     perception::SsmSummary summary;
-    perception_loop_->summaries().read(summary);
-    result.perception = summary;
+    if (perception_loop_->summaries().read(summary)) result.perception = summary;
   }
   if (vergence_loop_ != nullptr) {
     control::VergenceStatus status;
-    vergence_loop_->status().read(status);
-    result.vergence = status;
+    if (vergence_loop_->status().read(status)) result.vergence = status;
   }
   return result;
 }
 
 std::vector<const hal::Image*> MainJob::last_frames() {
-  std::vector<const hal::Image*> frames;
-  for (const auto& reader : frame_readers_) frames.push_back(&reader->newest_frame());
+  std::vector<const hal::Image*> frames(cameras_.size(), nullptr);
+  if (camera_loop_->has_stereo()) {
+    // The loops have stopped: this thread may take the stereo channel's reader side.
+    auto& pairs = camera_loop_->stereo_frames();
+    pairs.acquire();
+    const auto& stereo = *hardware_.stereo;
+    frames[camera_index(hardware_, stereo.left_camera)] = &pairs.front().left;
+    frames[camera_index(hardware_, stereo.right_camera)] = &pairs.front().right;
+  }
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i] != nullptr) continue;
+    auto& channel = camera_loop_->frames(i);
+    channel.acquire();
+    frames[i] = &channel.front();
+  }
   return frames;
 }
 

@@ -12,18 +12,25 @@
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/vergence_loop.hpp"
 #include "cambio/hal/backend_factory.hpp"
+#include "cambio/hal/hardware_info.hpp"
+#include "cambio/hal/joint_state_tap.hpp"
+#include "cambio/perception/camera_loop.hpp"
 #include "cambio/perception/ssm_server.hpp"
+#include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
-#include "camera_loop.hpp"
-#include "latest_frame_camera.hpp"
 
 namespace cambio::app {
 
 /// What a run produced, for the report and --out.
 struct MainJobResult {
   std::vector<runtime::LoopStatistics> loops;
+  bool realtime = false;
   std::uint64_t camera_frames = 0;
-  std::uint64_t watchdog_cycles = 0;
+  std::uint64_t stereo_pairs = 0;
+  std::uint64_t mismatched_stereo_pairs = 0;  ///< Refused by the SSM: eyes' stamps too far apart.
+  std::uint64_t watchdog_cycles = 0;          ///< Joint loop held: targets stale.
+  std::uint64_t fault_hold_cycles = 0;        ///< Joint loop held: fault latched or feedback stale.
+  bool fault_latched_at_end = false;
   bool stopped_by_signal = false;
   double simulated_s = 0.0;
   double wall_s = 0.0;
@@ -31,25 +38,34 @@ struct MainJobResult {
   std::optional<control::VergenceStatus> vergence;   ///< If the task was vergence.
 };
 
-/// The main job: the rig's backends built through the factory, and the loops wired through
-/// latest-value channels:
-///   camera loop -> (per camera) -> perception loop (SSM) -> control loop -> joint loop -> backends
-/// plus the backends' own loops (the sim's physics). Construction builds and configures
-/// everything (throws on any problem); run() only runs.
+/// The main job. Construction builds the run and configures it (throws on any problem):
+///  1. the executor, which owns the run's one clock: realtime on CLOCK_MONOTONIC when any joint
+///     group is on real hardware (socketcan) or the experiment asks for it, lockstep otherwise;
+///  2. the backends through the factory, given that clock and the HAL's hardware description;
+///     their devices; a group driven by another backend is followed by the sim, so its cameras
+///     see what the drives did;
+///  3. Backend::configure() of every backend;
+///  4. the loops, wired through latest-value channels:
+///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop
+///     plus the backends' own loops (the sim's physics).
+/// run() activates the backends, runs the executor (loops: configure, activate, update...,
+/// deactivate), and deactivates the backends whatever happens (a signal included).
 class MainJob {
  public:
   MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory);
   ~MainJob();
 
   /// Runs for the experiment's duration or until `stop`; `progress(done_s, wall_s)` is called
-  /// about every 0.1 s of run time.
+  /// about every 0.1 s of run time, by either executor.
   MainJobResult run(const std::atomic<bool>& stop,
                     const std::function<void(double, double)>& progress);
 
   /// The newest frame of each camera (rig order), for --out, after run(); sequence 0 if none
   /// arrived.
   std::vector<const hal::Image*> last_frames();
-  const std::vector<config::CameraConfig>& cameras() const { return experiment_.rig.cameras; }
+  const std::vector<hal::CameraInfo>& cameras() const { return hardware_.cameras; }
+  /// Paced by the wall clock (realtime executor) rather than simulated time.
+  bool realtime() const { return realtime_; }
 
  private:
   void build_backends(const hal::BackendFactory& factory);
@@ -57,8 +73,14 @@ class MainJob {
   int joint_index(const std::string& joint_name) const;
 
   config::ExperimentConfig experiment_;
-  std::map<std::string, std::unique_ptr<hal::Backend>> backends_;
+  hal::HardwareInfo hardware_;
+  // The executor owns the clock the backends hold: it is destroyed last.
+  std::unique_ptr<runtime::Executor> executor_;
+  bool realtime_ = false;
+  std::map<std::string, std::unique_ptr<hal::Backend>, std::less<>> backends_;
   std::vector<std::unique_ptr<hal::JointGroup>> groups_;
+  std::vector<std::unique_ptr<hal::JointStateTap>> taps_;  // Groups another backend follows.
+  std::vector<hal::JointGroup*> driven_groups_;            // What the joint loop drives, rig order.
   std::vector<std::unique_ptr<hal::Camera>> cameras_;
   std::vector<std::string> joint_order_;  // Rig order: the groups' joint lists concatenated.
 
@@ -67,8 +89,7 @@ class MainJob {
   std::unique_ptr<control::JointLoop> joint_loop_;
   std::unique_ptr<hal::Loop> control_loop_;
   control::VergenceLoop* vergence_loop_ = nullptr;  // control_loop_ when the task is vergence.
-  std::unique_ptr<CameraLoop> camera_loop_;
-  std::vector<std::unique_ptr<LatestFrameCamera>> frame_readers_;
+  std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
 };
 

@@ -11,7 +11,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +21,7 @@
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "image_files.hpp"
+#include "json_output.hpp"
 
 namespace cambio::app {
 
@@ -44,38 +44,51 @@ perception::PixelPoint parse_point(const std::string& option, const std::string&
   }
 }
 
-std::string json_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
+/// A measured value in result.json: six significant digits (null when not finite).
+double six_digits(double value) {
+  return as_printed(value, "%.6g");
 }
 
-std::string number(double value) {
-  if (!std::isfinite(value)) return "null";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
+/// A disparity in result.json: null when the estimate is not valid.
+Json disparity_or_null(bool valid, double disparity_px) {
+  return valid ? Json(six_digits(disparity_px)) : Json(nullptr);
 }
 
-std::string moments_json(const perception::Moments& m) {
-  if (!m.valid) return "{\"valid\": false}";
-  std::ostringstream out;
-  out << "{\"valid\": true, \"area_px2\": " << number(m.area_px2) << ", \"centroid_px\": ["
-      << number(m.centroid_x_px) << ", " << number(m.centroid_y_px)
-      << "], \"mu20_px2\": " << number(m.mu20_px2) << ", \"mu02_px2\": " << number(m.mu02_px2)
-      << ", \"mu11_px2\": " << number(m.mu11_px2)
-      << ", \"orientation_rad\": " << number(m.orientation_rad)
-      << ", \"eccentricity\": " << number(m.eccentricity) << "}";
-  return out.str();
+Json moments_json(const perception::Moments& m) {
+  if (!m.valid) return {{"valid", false}};
+  return {{"valid", true},
+          {"area_px2", six_digits(m.area_px2)},
+          {"centroid_px", Json::array({six_digits(m.centroid_x_px), six_digits(m.centroid_y_px)})},
+          {"mu20_px2", six_digits(m.mu20_px2)},
+          {"mu02_px2", six_digits(m.mu02_px2)},
+          {"mu11_px2", six_digits(m.mu11_px2)},
+          {"orientation_rad", six_digits(m.orientation_rad)},
+          {"eccentricity", six_digits(m.eccentricity)}};
+}
+
+/// One entry of result.json's "levels": the level's footprint, disparity and moments.
+Json level_json(const perception::SsmSummary& s, int k, const std::string& moments_map) {
+  const auto level = static_cast<std::size_t>(k);
+  const auto& l = s.disparity.per_level[level];
+  const auto& g = s.geometry[0][level];
+  const Json disparity = {{"searched", l.searched},
+                          {"valid", l.valid},
+                          {"disparity_px", disparity_or_null(l.valid, l.disparity_px)},
+                          {"confidence", six_digits(l.confidence)},
+                          {"peak_score", six_digits(l.peak_score)},
+                          {"texture_rms", six_digits(l.texture_rms)},
+                          {"at_range_edge", l.at_range_edge},
+                          {"search_level_px", Json::array({l.search_min_px, l.search_max_px})},
+                          {"moved_windows", l.moved_windows}};
+  const Json moments = {{"map", moments_map},
+                        {"left", moments_json(s.moments[0][level])},
+                        {"right", moments_json(s.moments[1][level])}};
+  return {{"level", k},
+          {"scale_px", g.scale_px},
+          {"origin_left_px", Json::array({g.origin_x_px, g.origin_y_px})},
+          {"fraction_inside_left", six_digits(g.fraction_inside)},
+          {"disparity", disparity},
+          {"moments", moments}};
 }
 
 /// Derivative-like maps as grey with 128 at zero and +-127 at the map's largest magnitude;
@@ -296,59 +309,41 @@ int run_perceive_command(std::span<const std::string> args) {
   }
   const perception::SsmSummary& s = frame.summary;
   const auto& d = s.disparity;
-  std::ostringstream json;
-  json << "{\n  \"left\": " << json_string(parser.value("left"))
-       << ",\n  \"right\": " << json_string(parser.value("right"))
-       << ",\n  \"config\": " << json_string(config_path) << ",\n  \"image_size_px\": ["
-       << left.width_px << ", " << left.height_px << "],\n"
-       << "  \"fixation_left_px\": [" << fixation_left.x << ", " << fixation_left.y << "],\n"
-       << "  \"fixation_right_px\": [" << fixation_right.x << ", " << fixation_right.y << "],\n"
-       << "  \"convention\": \"disparity_px = x_left - x_right in level-0 px, each relative to its "
-          "retina's fixation (the vergence error); image_disparity_px adds the fixation offset\",\n"
-       << "  \"disparity_px\": " << (d.valid ? number(d.disparity_px) : "null") << ",\n"
-       << "  \"confidence\": " << number(d.confidence) << ",\n"
-       << "  \"disparity_valid\": " << (d.valid ? "true" : "false") << ",\n"
-       << "  \"disparity_level\": " << d.level << ",\n"
-       << "  \"image_disparity_px\": "
-       << (d.valid ? number(d.disparity_px + (fixation_left.x - fixation_right.x)) : "null")
-       << ",\n"
-       << "  \"retina\": {\"levels\": " << config.retina.levels
-       << ", \"width_px\": " << config.retina.width_px
-       << ", \"height_px\": " << config.retina.height_px
-       << ", \"apron_px\": " << servo->retina(perception::Eye::kLeft).apron()
-       << "},\n  \"levels\": [\n";
-  for (int k = 0; k < s.levels; ++k) {
-    const auto& l = d.per_level[static_cast<std::size_t>(k)];
-    const auto& g = s.geometry[0][static_cast<std::size_t>(k)];
-    json << "    {\"level\": " << k << ", \"scale_px\": " << g.scale_px << ", \"origin_left_px\": ["
-         << g.origin_x_px << ", " << g.origin_y_px
-         << "], \"fraction_inside_left\": " << number(g.fraction_inside)
-         << ",\n     \"disparity\": {\"searched\": " << (l.searched ? "true" : "false")
-         << ", \"valid\": " << (l.valid ? "true" : "false")
-         << ", \"disparity_px\": " << (l.valid ? number(l.disparity_px) : "null")
-         << ", \"confidence\": " << number(l.confidence)
-         << ", \"peak_score\": " << number(l.peak_score)
-         << ", \"texture_rms\": " << number(l.texture_rms)
-         << ", \"at_range_edge\": " << (l.at_range_edge ? "true" : "false")
-         << ", \"search_level_px\": [" << l.search_min_px << ", " << l.search_max_px
-         << "], \"moved_windows\": " << l.moved_windows
-         << "},\n     \"moments\": {\"map\": " << json_string(config.moments.map)
-         << ", \"left\": " << moments_json(s.moments[0][static_cast<std::size_t>(k)])
-         << ", \"right\": " << moments_json(s.moments[1][static_cast<std::size_t>(k)]) << "}}"
-         << (k + 1 < s.levels ? "," : "") << "\n";
-  }
-  json << "  ],\n  \"maps\": [";
-  for (int i = 0; i < servo->operators().map_count(); ++i) {
-    json << (i ? ", " : "")
-         << json_string(servo->operators().maps()[static_cast<std::size_t>(i)].name);
-  }
-  json << "],\n  \"timings_us\": {\"retina\": " << number(s.timings.retina_us)
-       << ", \"features\": " << number(s.timings.features_us)
-       << ", \"disparity\": " << number(s.timings.disparity_us)
-       << ", \"moments\": " << number(s.timings.moments_us)
-       << ", \"total\": " << number(s.timings.total_us)
-       << "},\n  \"contact_sheet\": \"contact_sheet.png\"\n}\n";
-  std::ofstream(out_dir / "result.json") << json.str();
+  Json levels = Json::array();
+  for (int k = 0; k < s.levels; ++k) levels.push_back(level_json(s, k, config.moments.map));
+  Json maps = Json::array();
+  for (const auto& map : servo->operators().maps()) maps.push_back(map.name);
+  const Json result = {
+      {"left", parser.value("left")},
+      {"right", parser.value("right")},
+      {"config", config_path},
+      {"image_size_px", Json::array({left.width_px, left.height_px})},
+      {"fixation_left_px", Json::array({fixation_left.x, fixation_left.y})},
+      {"fixation_right_px", Json::array({fixation_right.x, fixation_right.y})},
+      {"convention",
+       "disparity_px = x_left - x_right in level-0 px, each relative to its retina's fixation "
+       "(the vergence error); image_disparity_px adds the fixation offset"},
+      {"disparity_px", disparity_or_null(d.valid, d.disparity_px)},
+      {"confidence", six_digits(d.confidence)},
+      {"disparity_valid", d.valid},
+      {"disparity_level", d.level},
+      {"image_disparity_px",
+       disparity_or_null(d.valid, d.disparity_px + (fixation_left.x - fixation_right.x))},
+      {"retina",
+       {{"levels", config.retina.levels},
+        {"width_px", config.retina.width_px},
+        {"height_px", config.retina.height_px},
+        {"apron_px", servo->retina(hal::Eye::kLeft).apron()}}},
+      {"levels", levels},
+      {"maps", maps},
+      {"timings_us",
+       {{"retina", six_digits(s.timings.retina_us)},
+        {"features", six_digits(s.timings.features_us)},
+        {"disparity", six_digits(s.timings.disparity_us)},
+        {"moments", six_digits(s.timings.moments_us)},
+        {"total", six_digits(s.timings.total_us)}}},
+      {"contact_sheet", "contact_sheet.png"}};
+  std::ofstream(out_dir / "result.json") << json_text(result);
 
   const cv::Mat sheet = contact_sheet(*servo, frame, left, right);
   hal::Image png(sheet.cols, sheet.rows, hal::PixelFormat::kRgb8);
@@ -356,8 +351,12 @@ int run_perceive_command(std::span<const std::string> args) {
   cv::cvtColor(sheet, rgb, cv::COLOR_BGR2RGB);
   write_png((out_dir / "contact_sheet.png").string(), png);
 
-  std::printf("disparity %s px, confidence %.2f (level %d); wrote %s and %s\n",
-              d.valid ? number(d.disparity_px).c_str() : "invalid",
+  char disparity_text[32] = "invalid";
+  if (d.valid) {
+    std::snprintf(disparity_text, sizeof disparity_text, "%.6g",
+                  static_cast<double>(d.disparity_px));
+  }
+  std::printf("disparity %s px, confidence %.2f (level %d); wrote %s and %s\n", disparity_text,
               static_cast<double>(d.confidence), d.level, (out_dir / "result.json").c_str(),
               (out_dir / "contact_sheet.png").c_str());
   return kExitOk;

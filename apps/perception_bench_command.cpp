@@ -23,6 +23,7 @@
 #include "cambio/perception/gaussian_kernels.hpp"
 #include "cambio/perception/sensory_servo.hpp"
 #include "command.hpp"
+#include "json_output.hpp"
 
 namespace cambio::app {
 
@@ -225,26 +226,33 @@ int run_perception_bench_command(std::span<const std::string> args) {
   const double wide_vs_filter = opencv_filter_us / ssm_64.total_us;
   const double wide_vs_memcpy = ssm_64.total_us / memcpy_us;
   if (parser.flag_set("json")) {
-    std::printf(
-        "{\"image\": \"640x480 grey stereo pair\", \"threads\": 1, \"repeats\": %d,\n"
-        " \"ssm_paper_us\": %.2f, \"ssm_64_us\": %.2f, \"memcpy_us\": %.2f,\n"
-        " \"opencv_full_filter_us\": %.1f, \"opencv_stereo_bm_us\": %.1f,\n"
-        " \"opencv_full_filter_over_ssm_paper\": %.1f, \"ssm_paper_over_memcpy\": %.2f,\n"
-        " \"opencv_full_filter_over_ssm_64\": %.1f, \"ssm_64_over_memcpy\": %.2f,\n"
-        " \"opencv_stereo_bm_over_ssm_paper\": %.1f,\n"
-        " \"ssm_paper_parts_us\": {\"retina\": %.2f, \"features\": %.2f, \"disparity\": %.2f, "
-        "\"motion\": %.2f, \"moments\": %.2f},\n"
-        " \"ssm_64_parts_us\": {\"retina\": %.2f, \"features\": %.2f, \"disparity\": %.2f, "
-        "\"motion\": %.2f, \"moments\": %.2f},\n"
-        " \"ssm_paper_disparity_px\": %.3f, \"ssm_64_disparity_px\": %.3f, \"true_disparity_px\": "
-        "3.3}\n",
-        repeats, ssm_paper.total_us, ssm_64.total_us, memcpy_us, opencv_filter_us, stereo_bm_us,
-        paper_vs_filter, paper_vs_memcpy, wide_vs_filter, wide_vs_memcpy,
-        stereo_bm_us / ssm_paper.total_us, ssm_paper.parts.retina_us, ssm_paper.parts.features_us,
-        ssm_paper.parts.disparity_us, ssm_paper.parts.motion_us, ssm_paper.parts.moments_us,
-        ssm_64.parts.retina_us, ssm_64.parts.features_us, ssm_64.parts.disparity_us,
-        ssm_64.parts.motion_us, ssm_64.parts.moments_us,
-        static_cast<double>(ssm_paper.disparity_px), static_cast<double>(ssm_64.disparity_px));
+    const auto parts = [](const perception::SsmTimings& t) {
+      return Json{{"retina", as_printed(t.retina_us, "%.2f")},
+                  {"features", as_printed(t.features_us, "%.2f")},
+                  {"disparity", as_printed(t.disparity_us, "%.2f")},
+                  {"motion", as_printed(t.motion_us, "%.2f")},
+                  {"moments", as_printed(t.moments_us, "%.2f")}};
+    };
+    const Json figures = {
+        {"image", "640x480 grey stereo pair"},
+        {"threads", 1},
+        {"repeats", repeats},
+        {"ssm_paper_us", as_printed(ssm_paper.total_us, "%.2f")},
+        {"ssm_64_us", as_printed(ssm_64.total_us, "%.2f")},
+        {"memcpy_us", as_printed(memcpy_us, "%.2f")},
+        {"opencv_full_filter_us", as_printed(opencv_filter_us, "%.1f")},
+        {"opencv_stereo_bm_us", as_printed(stereo_bm_us, "%.1f")},
+        {"opencv_full_filter_over_ssm_paper", as_printed(paper_vs_filter, "%.1f")},
+        {"ssm_paper_over_memcpy", as_printed(paper_vs_memcpy, "%.2f")},
+        {"opencv_full_filter_over_ssm_64", as_printed(wide_vs_filter, "%.1f")},
+        {"ssm_64_over_memcpy", as_printed(wide_vs_memcpy, "%.2f")},
+        {"opencv_stereo_bm_over_ssm_paper", as_printed(stereo_bm_us / ssm_paper.total_us, "%.1f")},
+        {"ssm_paper_parts_us", parts(ssm_paper.parts)},
+        {"ssm_64_parts_us", parts(ssm_64.parts)},
+        {"ssm_paper_disparity_px", as_printed(ssm_paper.disparity_px, "%.3f")},
+        {"ssm_64_disparity_px", as_printed(ssm_64.disparity_px, "%.3f")},
+        {"true_disparity_px", 3.3}};
+    std::cout << json_text(figures);
     return kExitOk;
   }
   std::printf("perception-bench: 640x480 grey stereo pair, one thread, medians per pair\n");

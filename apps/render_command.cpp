@@ -12,8 +12,11 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
@@ -31,15 +34,6 @@ struct JointPose {
   std::string joint;
   double position_rad = 0.0;
 };
-
-/// A rig path as given, or a shipped rig's name (`cambio`, `pan_tilt`).
-std::string resolve_rig_path(const std::string& argument) {
-  if (std::filesystem::exists(argument)) return argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  return std::filesystem::exists(shipped) ? shipped.string() : argument;
-}
 
 /// "<name>=<value>" with value in radians, or in degrees with a "deg" suffix.
 JointPose parse_pose(const std::string& option, const std::string& text) {
@@ -111,13 +105,13 @@ int run_render_command(std::span<const std::string> args) {
   }
   for (const auto& text : parser.values("pose")) poses.push_back(parse_pose("--pose", text));
 
-  const auto rig_or_none =
-      load_rig_or_report(resolve_rig_path(parser.value("config", "cambio")), overrides);
+  const auto rig_or_none = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config", "cambio")), overrides);
   if (!rig_or_none) return kExitBadInput;
   config::RigConfig rig = *rig_or_none;
   config::SceneConfig scene;
   try {
-    scene = config::load_scene(config::resolve_scene_path(parser.value("scene")));
+    scene = config::load_scene(config::resolve_config_argument("scenes", parser.value("scene")));
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -146,14 +140,15 @@ int run_render_command(std::span<const std::string> args) {
   std::filesystem::create_directories(out_dir);
   const auto started = std::chrono::steady_clock::now();
 
-  hal::BackendOptions options;
-  options.scene_path = scene.source_file;
+  // Nothing runs in time here: the backend gets a clock that stays at zero.
+  hal::ManualClock clock;
   sim::MjcfOptions mjcf_options;
   mjcf_options.offscreen_width_px = kOverviewWidthPx;
   mjcf_options.offscreen_height_px = kOverviewHeightPx;
   std::unique_ptr<sim::SimBackend> backend;
   try {
-    backend = std::make_unique<sim::SimBackend>(rig, scene, options, mjcf_options);
+    backend = std::make_unique<sim::SimBackend>(rig, scene, config::hardware_description(rig),
+                                                hal::BackendContext{&clock}, mjcf_options);
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -164,7 +159,7 @@ int run_render_command(std::span<const std::string> args) {
     if (!mjcf) throw std::runtime_error("could not write " + parser.value("mjcf"));
   }
   // The pose is the initial state: render it as it is, without letting gravity act first.
-  backend->physics().activate();
+  backend->activate();
 
   std::vector<std::string> written;
   // The eyes through the HAL camera pipeline, exactly what perception would receive.

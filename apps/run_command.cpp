@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "image_files.hpp"
+#include "json_output.hpp"
 #include "main_job.hpp"
 #include "progress_reporter.hpp"
 #include "stop_signal.hpp"
@@ -17,28 +18,43 @@
 namespace cambio::app {
 namespace {
 
-std::string summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result) {
-  std::ostringstream json;
-  json << "{\"experiment\": \"" << experiment.name << "\", \"simulated_s\": " << result.simulated_s
-       << ", \"wall_s\": " << result.wall_s << ", \"camera_frames\": " << result.camera_frames;
+Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result) {
+  Json json;
+  json["experiment"] = experiment.name;
+  json["rig"] = experiment.rig.name;
+  json["executor"] = result.realtime ? "realtime" : "lockstep";
+  json["seed"] = experiment.seed;
+  json["simulated_s"] = result.simulated_s;
+  json["wall_s"] = result.wall_s;
+  json["stopped_by_signal"] = result.stopped_by_signal;
+  json["camera_frames"] = result.camera_frames;
+  json["stereo_pairs"] = result.stereo_pairs;
+  json["mismatched_stereo_pairs"] = result.mismatched_stereo_pairs;
+  json["joint_loop"] = {{"watchdog_hold_cycles", result.watchdog_cycles},
+                        {"fault_hold_cycles", result.fault_hold_cycles},
+                        {"fault_latched_at_end", result.fault_latched_at_end}};
   if (result.perception) {
     const auto& d = result.perception->disparity;
-    json << ", \"perception\": {\"frames\": " << result.perception->sequence
-         << ", \"disparity_valid\": " << (d.valid ? "true" : "false")
-         << ", \"disparity_px\": " << d.disparity_px << ", \"confidence\": " << d.confidence << "}";
+    json["perception"] = {{"frames", result.perception->sequence},
+                          {"disparity_valid", d.valid},
+                          {"disparity_px", d.disparity_px},
+                          {"confidence", d.confidence}};
   }
   if (result.vergence) {
-    json << ", \"vergence\": {\"measurements\": " << result.vergence->measurements
-         << ", \"corrections\": " << result.vergence->corrections
-         << ", \"final_disparity_px\": " << result.vergence->disparity_px
-         << ", \"verging_eye_target_rad\": " << result.vergence->verging_target_rad << "}";
+    json["vergence"] = {{"measurements", result.vergence->measurements},
+                        {"corrections", result.vergence->corrections},
+                        {"final_disparity_px", result.vergence->disparity_px},
+                        {"verging_eye_target_rad", result.vergence->verging_target_rad}};
   }
-  json << ", \"loops\": [";
-  for (std::size_t i = 0; i < result.loops.size(); ++i) {
-    json << (i == 0 ? "" : ", ") << runtime::statistics_json(result.loops[i]);
+  Json over_budget = Json::array();
+  json["loops"] = Json::array();
+  for (const auto& loop : result.loops) {
+    json["loops"].push_back(runtime::statistics_json(loop));
+    if (!runtime::passes_allocation_gate(loop)) over_budget.push_back(loop.name);
   }
-  json << "]}\n";
-  return json.str();
+  json["allocation_gate"] = {{"passed", over_budget.empty()},
+                             {"loops_that_allocated", over_budget}};
+  return json;
 }
 
 }  // namespace
@@ -63,9 +79,9 @@ int run_run_command(std::span<const std::string> args) {
   }
 
   hal::BackendFactory factory;
-  register_builtin_backends(factory);
   std::unique_ptr<MainJob> job;
   try {
+    register_builtin_backends(factory, experiment);
     job = std::make_unique<MainJob>(experiment, factory);
   } catch (const hal::BackendUnavailable& error) {
     std::cerr << "cambio run: " << error.what() << "\n";
@@ -77,8 +93,11 @@ int run_run_command(std::span<const std::string> args) {
 
   const auto& stop = install_stop_signal_handlers();
   std::cerr << "cambio run: " << experiment.name << " on rig '" << experiment.rig.name << "', "
-            << (experiment.executor == config::ExecutorKind::kRealtime ? "realtime" : "lockstep")
-            << " executor, " << experiment.duration_s << " s, seed " << experiment.seed << "\n";
+            << (job->realtime() ? "realtime" : "lockstep") << " executor, " << experiment.duration_s
+            << " s, seed " << experiment.seed << "\n";
+  if (job->realtime() && experiment.executor == config::ExecutorKind::kLockstep) {
+    std::cerr << "cambio run: the rig drives real hardware: running on the realtime executor\n";
+  }
   ProgressReporter progress("run", experiment.duration_s);
   const MainJobResult result =
       job->run(stop, [&](double done_s, double wall_s) { progress.update(done_s, wall_s); });
@@ -86,8 +105,14 @@ int run_run_command(std::span<const std::string> args) {
   if (result.stopped_by_signal) std::cerr << "cambio run: stopped by signal\n";
 
   std::cout << runtime::format_statistics_table(result.loops.data(), result.loops.size());
-  std::cout << "camera frames grabbed: " << result.camera_frames
-            << ", joint-loop watchdog holds: " << result.watchdog_cycles << " cycles\n";
+  std::cout << "camera frames grabbed: " << result.camera_frames << " (" << result.stereo_pairs
+            << " stereo pairs, " << result.mismatched_stereo_pairs
+            << " refused for mismatched stamps)"
+            << ", joint-loop watchdog holds: " << result.watchdog_cycles
+            << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles\n";
+  if (result.fault_latched_at_end) {
+    std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
+  }
   if (result.perception) {
     const auto& d = result.perception->disparity;
     std::cout << "perception: " << result.perception->sequence << " stereo frames; disparity at "
@@ -116,7 +141,7 @@ int run_run_command(std::span<const std::string> args) {
       if (frames[i]->sequence == 0) continue;
       write_png((out_dir / (job->cameras()[i].name + ".png")).string(), *frames[i]);
     }
-    std::ofstream(out_dir / "summary.json") << summary_json(experiment, result);
+    std::ofstream(out_dir / "summary.json") << json_text(summary_json(experiment, result));
     std::cerr << "cambio run: wrote " << out_dir.string() << "\n";
   }
   return exit_code;

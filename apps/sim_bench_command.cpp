@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -14,11 +13,15 @@
 #include <mujoco/mujoco.h>
 
 #include "argument_parser.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "json_output.hpp"
 
 namespace cambio::app {
 
@@ -28,14 +31,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string resolve_rig(const std::string& argument) {
-  if (std::filesystem::exists(argument)) return argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(config::shipped_config_dir()) / "rigs" / argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  return std::filesystem::exists(shipped) ? shipped.string() : argument;
 }
 
 /// Every sim group of the rig, commanded along slow sines inside the joints' limits, so the
@@ -74,7 +69,8 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double seconds = parser.number("seconds", 2.0);
   if (!(seconds > 0.0)) throw UsageError("sim-bench: --seconds must be > 0");
 
-  auto rig_or_none = load_rig_or_report(resolve_rig(parser.value("config", "cambio")), {});
+  auto rig_or_none = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config", "cambio")), {});
   if (!rig_or_none) return kExitBadInput;
   config::RigConfig rig = *rig_or_none;
   if (!rig.stereo) {
@@ -103,9 +99,10 @@ int run_sim_bench_command(std::span<const std::string> args) {
   }
   config::SceneConfig physics_scene, camera_scene;
   try {
-    physics_scene = config::load_scene(config::resolve_scene_path(parser.value("scene", "table")));
-    camera_scene =
-        config::load_scene(config::resolve_scene_path(parser.value("camera-scene", "vergence")));
+    physics_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("scene", "table")));
+    camera_scene = config::load_scene(
+        config::resolve_config_argument("scenes", parser.value("camera-scene", "vergence")));
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -119,16 +116,22 @@ int run_sim_bench_command(std::span<const std::string> args) {
     int nq = 0;
     int nv = 0;
   };
+  const hal::HardwareInfo hardware = config::hardware_description(rig);
+  hal::ManualClock clock;  // The benchmark steps physics itself; stamps come from the step count.
   auto measure_physics = [&](const config::SceneConfig& scene) -> PhysicsFigure {
-    sim::SimBackend backend(rig, scene, hal::BackendOptions{});
+    sim::SimBackend backend(rig, scene, hardware, hal::BackendContext{&clock});
     Exerciser exerciser;
     for (const auto& group : rig.groups) {
       if (group.backend != "sim") continue;
       exerciser.groups.push_back(backend.make_joint_group(group.name));
       exerciser.commands.emplace_back(group.joints.size());
     }
+    backend.activate();
     auto& physics = backend.physics();
-    physics.activate();
+    // Drives walk switch-on disabled -> operation enabled one transition per step: without
+    // this the joints would hold still and the figure would measure an idle robot.
+    for (auto& group : exerciser.groups) (void)group->request(hal::DriveRequest::kEnable);
+    for (int k = 0; k < 3; ++k) (void)physics.step_once(0);
     const double dt = backend.world().timestep_s();
     std::uint64_t steps = 0;
     std::uint64_t contacts = 0;
@@ -160,8 +163,8 @@ int run_sim_bench_command(std::span<const std::string> args) {
   // Cameras: the pipeline (HAL grab of both eyes, a physics step between pairs so every pair is
   // a new frame) against the raw MuJoCo loop, alternated in rounds so that both see the same
   // machine load.
-  sim::SimBackend backend(rig, camera_scene, hal::BackendOptions{});
-  backend.physics().activate();
+  sim::SimBackend backend(rig, camera_scene, hardware, hal::BackendContext{&clock});
+  backend.activate();
   auto left = backend.make_camera(rig.stereo->left_camera);
   auto right = backend.make_camera(rig.stereo->right_camera);
   const auto& intrinsics = left->info().intrinsics;
@@ -194,7 +197,7 @@ int run_sim_bench_command(std::span<const std::string> args) {
   auto raw_round = [&](double budget_s) {
     int pairs = 0;
     const auto start = Clock::now();
-    std::lock_guard<std::mutex> lock(renderer.mutex());
+    const sim::Renderer::Lease lease(renderer, sim::Renderer::Lease::Mode::kWait);
     while (seconds_since(start) < budget_s) {
       renderer.render_raw_reference(left_id, intrinsics.width_px, intrinsics.height_px, raw.data());
       renderer.render_raw_reference(right_id, intrinsics.width_px, intrinsics.height_px,
@@ -227,16 +230,22 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const std::string gl = renderer.gl_renderer_name();
 
   if (parser.flag_set("json")) {
-    std::printf(
-        "{\"physics_steps_per_s\": %.0f, \"physics_scene\": \"%s\", \"nq\": %d, \"nv\": %d, "
-        "\"mean_contacts\": %.2f, \"physics_robot_only_steps_per_s\": %.0f, \"width\": %d, "
-        "\"height\": %d, \"camera_stereo_fps\": %.1f, "
-        "\"raw_mujoco_stereo_fps\": %.1f, \"camera_vs_raw\": %.3f, \"camera_scene\": \"%s\", "
-        "\"format\": \"%s\", \"gl_renderer\": \"%s\"}\n",
-        physics_steps_per_s, physics_scene.name.c_str(), nq, nv, mean_contacts,
-        robot_only.steps_per_s, intrinsics.width_px, intrinsics.height_px, camera_fps, raw_fps,
-        camera_fps / raw_fps, camera_scene.name.c_str(),
-        left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8", gl.c_str());
+    const Json figures = {
+        {"physics_steps_per_s", std::llround(physics_steps_per_s)},
+        {"physics_scene", physics_scene.name},
+        {"nq", nq},
+        {"nv", nv},
+        {"mean_contacts", as_printed(mean_contacts, "%.2f")},
+        {"physics_robot_only_steps_per_s", std::llround(robot_only.steps_per_s)},
+        {"width", intrinsics.width_px},
+        {"height", intrinsics.height_px},
+        {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
+        {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
+        {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
+        {"camera_scene", camera_scene.name},
+        {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
+        {"gl_renderer", gl}};
+    std::cout << json_text(figures);
   } else {
     std::printf("sim-bench (%s)\n", gl.c_str());
     std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",

@@ -19,7 +19,7 @@ mode=${1:-build}
 # Everything comes from Debian 12's own packages.
 packages=(
   g++ cmake make pkg-config git
-  libeigen3-dev libyaml-cpp-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev
   libmujoco-dev libqhull-dev
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   libopencv-dev

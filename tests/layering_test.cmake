@@ -1,6 +1,9 @@
 # The layering rules of DESIGN.md, checked on the include graph:
 #  - control/ and perception/ see the HAL only: nothing from sim/ or drivers/;
-#  - hal/ depends on Eigen and the standard library alone.
+#  - hal/ depends on Eigen and the standard library alone, and names nothing of the config layer
+#    (not even a forward declaration): backends get the HAL's HardwareInfo;
+#  - control/ (the runtime included) never includes cambio/config/: the application maps
+#    configuration onto controller and schedule parameters.
 set(violations "")
 
 file(GLOB_RECURSE upper_files ${SOURCE_DIR}/control/*.hpp ${SOURCE_DIR}/control/*.cpp
@@ -10,6 +13,8 @@ foreach(path IN LISTS upper_files)
   foreach(line IN LISTS includes)
     if(line MATCHES "[<\"](cambio/)?(sim|drivers)/" OR line MATCHES "mujoco" OR line MATCHES "linux/can")
       list(APPEND violations "${path}: ${line}")
+    elseif(path MATCHES "/control/" AND line MATCHES "[<\"]cambio/config/")
+      list(APPEND violations "${path}: ${line} (control/ does not depend on firmware_config/)")
     endif()
   endforeach()
 endforeach()
@@ -23,6 +28,10 @@ foreach(path IN LISTS hal_files)
     elseif(line MATCHES "[<\"](yaml-cpp|opencv2|mujoco|EGL|GL|visp)")
       list(APPEND violations "${path}: ${line} (the HAL depends on Eigen alone)")
     endif()
+  endforeach()
+  file(STRINGS ${path} config_names REGEX "(cambio::)?config::|namespace cambio::config")
+  foreach(line IN LISTS config_names)
+    list(APPEND violations "${path}: ${line} (the HAL names nothing of firmware_config/)")
   endforeach()
 endforeach()
 

@@ -5,13 +5,18 @@
 
 namespace cambio::control {
 
+namespace {
+
+constexpr std::uint32_t bit_of(hal::DriveRequest request) {
+  return 1u << static_cast<unsigned>(request);
+}
+
+}  // namespace
+
 JointLoop::JointLoop(std::vector<hal::JointGroup*> groups,
                      hal::SeqlockChannel<JointTargetFrame>& targets,
-                     hal::SeqlockChannel<JointStateFrame>& states, double command_timeout_s)
-    : groups_(std::move(groups)),
-      targets_(targets),
-      states_(states),
-      command_timeout_s_(command_timeout_s) {}
+                     hal::SeqlockChannel<JointStateFrame>& states, JointLoopParams params)
+    : groups_(std::move(groups)), targets_(targets), states_(states), params_(params) {}
 
 void JointLoop::configure() {
   joint_count_ = 0;
@@ -30,12 +35,18 @@ void JointLoop::configure() {
     throw std::invalid_argument("joint loop: " + std::to_string(joint_count_) +
                                 " joints exceed the maximum of " + std::to_string(kMaxJoints));
   }
-  if (!(command_timeout_s_ > 0.0)) {
+  if (!(params_.command_timeout_s > 0.0)) {
     throw std::invalid_argument("joint loop: command timeout must be > 0 s");
   }
-  state_scratch_.resize(static_cast<std::size_t>(joint_count_));
-  command_scratch_.resize(static_cast<std::size_t>(joint_count_));
-  last_position_target_.assign(static_cast<std::size_t>(joint_count_), 0.0);
+  if (!(params_.feedback_timeout_s > 0.0)) {
+    throw std::invalid_argument("joint loop: feedback timeout must be > 0 s");
+  }
+  const auto n = static_cast<std::size_t>(joint_count_);
+  state_scratch_.assign(n, hal::JointState{});
+  command_scratch_.assign(n, hal::JointCommand{});
+  last_position_target_.assign(n, 0.0);
+  latched_bits_.assign(n, 0u);
+  was_enabled_.assign(n, 0);
 }
 
 void JointLoop::activate() {
@@ -43,49 +54,140 @@ void JointLoop::activate() {
   for (hal::JointGroup* group : groups_) {
     const std::size_t n = group->info().joints.size();
     std::int64_t stamp_ns = 0;
-    if (group->read(std::span(state_scratch_).subspan(offset, n), stamp_ns) == hal::Status::kOk) {
+    const hal::Status status = group->read(std::span(state_scratch_).subspan(offset, n), stamp_ns);
+    if (status == hal::Status::kOk || status == hal::Status::kFault) {
       for (std::size_t j = offset; j < offset + n; ++j) {
         last_position_target_[j] = state_scratch_[j].position_rad;
+        was_enabled_[j] = hal::is_enabled(state_scratch_[j].drive_state) ? 1 : 0;
       }
     }
     offset += n;
   }
+  pending_requests_.store(0);
+  reset_requested_ = false;
+  enable_after_reset_ = false;
+  if (params_.enable_on_activate) forward(hal::DriveRequest::kEnable);
 }
 
-hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
-  hal::Status result = hal::Status::kOk;
+void JointLoop::deactivate() noexcept {
+  forward(hal::DriveRequest::kQuickStop);
+}
 
-  // 1. Read and publish what the encoders say.
+void JointLoop::request(hal::DriveRequest request) noexcept {
+  pending_requests_.fetch_or(bit_of(request), std::memory_order_acq_rel);
+}
+
+void JointLoop::forward(hal::DriveRequest request) noexcept {
+  for (hal::JointGroup* group : groups_) (void)group->request(request);
+}
+
+void JointLoop::apply_requests(std::uint32_t pending) noexcept {
+  // "Reset, then enable" asked together: a drive takes one request at a time (a controlword),
+  // so the enable waits until every drive has come out of its fault (read_groups()).
+  if ((pending & bit_of(hal::DriveRequest::kFaultReset)) != 0) {
+    forward(hal::DriveRequest::kFaultReset);
+    reset_requested_ = true;
+    if ((pending & bit_of(hal::DriveRequest::kEnable)) != 0) {
+      enable_after_reset_ = true;
+      pending &= ~bit_of(hal::DriveRequest::kEnable);
+    }
+  }
+  if ((pending & bit_of(hal::DriveRequest::kQuickStop)) != 0) {
+    forward(hal::DriveRequest::kQuickStop);
+  }
+  if ((pending & bit_of(hal::DriveRequest::kDisable)) != 0) {
+    forward(hal::DriveRequest::kDisable);
+  }
+  if ((pending & bit_of(hal::DriveRequest::kEnable)) != 0) forward(hal::DriveRequest::kEnable);
+}
+
+hal::Status JointLoop::read_groups(std::int64_t now_ns) noexcept {
+  hal::Status result = hal::Status::kOk;
   std::size_t offset = 0;
   std::int64_t newest_stamp_ns = 0;
   for (hal::JointGroup* group : groups_) {
     const std::size_t n = group->info().joints.size();
     std::int64_t stamp_ns = 0;
-    const hal::Status status = group->read(std::span(state_scratch_).subspan(offset, n), stamp_ns);
-    if (status != hal::Status::kOk) result = status;
-    newest_stamp_ns = std::max(newest_stamp_ns, stamp_ns);
+    result =
+        hal::worst(result, group->read(std::span(state_scratch_).subspan(offset, n), stamp_ns));
     offset += n;
   }
+  const auto feedback_timeout_ns = static_cast<std::int64_t>(params_.feedback_timeout_s * 1e9);
+  bool any_fault_now = false;
+  for (std::size_t j = 0; j < state_scratch_.size(); ++j) {
+    hal::JointState& state = state_scratch_[j];
+    if (now_ns - state.stamp_ns > feedback_timeout_ns) state.status_bits |= hal::kJointStale;
+    if (hal::is_faulted(state.drive_state)) state.status_bits |= hal::kJointFault;
+    if (!hal::is_enabled(state.drive_state)) state.status_bits |= hal::kJointNotEnabled;
+    const std::uint32_t latching = state.status_bits & hal::kJointLatchingBits;
+    any_fault_now = any_fault_now || latching != 0;
+    latched_bits_[j] |= latching;
+    newest_stamp_ns = std::max(newest_stamp_ns, state.stamp_ns);
+  }
+  // A reset clears the loop's latches only once every drive has come out of its fault (the
+  // request may take cycles to reach them); until then the latch stands.
+  if (reset_requested_ && !any_fault_now) {
+    std::fill(latched_bits_.begin(), latched_bits_.end(), 0u);
+    reset_requested_ = false;
+    if (enable_after_reset_) forward(hal::DriveRequest::kEnable);
+    enable_after_reset_ = false;
+  }
+  for (std::size_t j = 0; j < state_scratch_.size(); ++j) {
+    state_scratch_[j].status_bits |= latched_bits_[j];
+  }
   state_frame_.stamp_ns = newest_stamp_ns;
+  return result;
+}
+
+hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
+  if (const std::uint32_t pending = pending_requests_.exchange(0, std::memory_order_acq_rel)) {
+    apply_requests(pending);
+  }
+
+  // 1-2. Read, flag stale readings, latch faults, publish.
+  hal::Status result = read_groups(tick.now_ns);
+  bool fault_latched = false;
+  bool feedback_stale = false;
+  for (std::size_t j = 0; j < state_scratch_.size(); ++j) {
+    fault_latched = fault_latched || latched_bits_[j] != 0;
+    feedback_stale = feedback_stale || (state_scratch_[j].status_bits & hal::kJointStale) != 0;
+  }
+  const bool holding = fault_latched || feedback_stale;
+  if (fault_latched) result = hal::worst(result, hal::Status::kFault);
+  if (feedback_stale) {
+    result = hal::worst(result, hal::Status::kStale);
+    feedback_stale_cycles_.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (holding) fault_hold_cycles_.fetch_add(1, std::memory_order_relaxed);
   state_frame_.count = joint_count_;
+  state_frame_.holding = holding;
+  state_frame_.fault_latched = fault_latched;
   std::copy(state_scratch_.begin(), state_scratch_.end(), state_frame_.states.begin());
   states_.write(state_frame_);
 
-  // 2. Take the newest targets; hold position if they are missing or stale.
-  JointTargetFrame targets;
-  targets_.read(targets);
-  const bool fresh =
-      targets_.version() > 0 && targets.count == joint_count_ &&
-      static_cast<double>(tick.now_ns - targets.stamp_ns) * 1e-9 <= command_timeout_s_;
-  if (!fresh) ++stale_cycles_;
+  // 3. The newest targets (a torn read keeps the last clean copy); hold if missing or stale.
+  (void)targets_.read(targets_frame_);
+  const bool fresh = !holding && targets_.version() > 0 && targets_frame_.count == joint_count_ &&
+                     static_cast<double>(tick.now_ns - targets_frame_.stamp_ns) * 1e-9 <=
+                         params_.command_timeout_s;
+  if (!fresh && !holding) stale_cycles_.fetch_add(1, std::memory_order_relaxed);
 
   for (std::size_t j = 0; j < static_cast<std::size_t>(joint_count_); ++j) {
     const hal::JointLimits& limits = limits_[j];
+    const hal::JointState& state = state_scratch_[j];
+    const bool enabled = hal::is_enabled(state.drive_state);
+    const bool just_enabled = enabled && was_enabled_[j] == 0;
+    was_enabled_[j] = enabled ? 1 : 0;
     hal::JointCommand command;
-    if (!fresh) {
-      command = {hal::CommandMode::kPosition, last_position_target_[j]};
+    if (!enabled || just_enabled) {
+      // Not driven, or the first cycle driven: the target is where the joint is, so enabling
+      // (now or later) never jumps to an old target.
+      command = {hal::CommandMode::kPosition, state.position_rad, 0.0, 0.0};
+      last_position_target_[j] = state.position_rad;
+    } else if (!fresh) {
+      command = {hal::CommandMode::kPosition, last_position_target_[j], 0.0, 0.0};
     } else {
-      command = targets.commands[j];
+      command = targets_frame_.commands[j];
     }
     // A non-finite target becomes "hold"; positions and velocities are clamped to the limits.
     (void)hal::clamp_command(command, limits);
@@ -96,19 +198,19 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
                                  last_position_target_[j] + step);
       last_position_target_[j] = command.value;
     } else {
-      last_position_target_[j] = state_scratch_[j].position_rad;
+      last_position_target_[j] = state.position_rad;
     }
     command_scratch_[j] = command;
   }
 
-  // 3. Send.
-  offset = 0;
+  // 4. Send, then let the groups latch this cycle's targets together.
+  std::size_t offset = 0;
   for (hal::JointGroup* group : groups_) {
     const std::size_t n = group->info().joints.size();
-    const hal::Status status = group->write(std::span(command_scratch_).subspan(offset, n));
-    if (status != hal::Status::kOk) result = status;
+    result = hal::worst(result, group->write(std::span(command_scratch_).subspan(offset, n)));
     offset += n;
   }
+  for (hal::JointGroup* group : groups_) result = hal::worst(result, group->sync());
   return result;
 }
 

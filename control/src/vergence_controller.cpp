@@ -18,7 +18,7 @@ VergenceController::VergenceController(const VergenceParams& params) : params_(p
 
 double VergenceController::angular_error_rad(double disparity_px) const {
   const double angle = std::atan(disparity_px / params_.focal_px);
-  return params_.verging_eye == Eye::kRight ? angle : -angle;
+  return params_.verging_eye == hal::Eye::kRight ? angle : -angle;
 }
 
 double VergenceController::next_target_rad(double verging_target_rad, double dominant_pan_rad,
@@ -31,8 +31,8 @@ double VergenceController::next_target_rad(double verging_target_rad, double dom
                                  -params_.max_step_rad, params_.max_step_rad);
   const double target = verging_target_rad + step;
   // No divergence: the right eye's pan may not fall below the left eye's.
-  return params_.verging_eye == Eye::kRight ? std::max(target, dominant_pan_rad)
-                                            : std::min(target, dominant_pan_rad);
+  return params_.verging_eye == hal::Eye::kRight ? std::max(target, dominant_pan_rad)
+                                                 : std::min(target, dominant_pan_rad);
 }
 
 }  // namespace cambio::control

@@ -23,8 +23,8 @@ VergenceLoop::VergenceLoop(const VergenceController& controller, const JointTarg
 }
 
 hal::Status VergenceLoop::update(const hal::LoopTick& tick) noexcept {
-  perception::SsmSummary summary;
-  summaries_.read(summary);
+  (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
+  const perception::SsmSummary& summary = summary_;
   if (summary.sequence != 0 && summary.sequence != last_sequence_) {
     last_sequence_ = summary.sequence;
     const DisparityMeasurement measurement{summary.disparity.valid,

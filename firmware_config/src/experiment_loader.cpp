@@ -46,15 +46,16 @@ ExperimentConfig load_experiment(const std::string& path,
                     ? ControlTask::kVergence
                     : ControlTask::kHold;
   if (auto vergence = experiment.optional_map("vergence")) {
-    config.vergence.verging_eye =
-        vergence->choice_or("verging_eye", {"left", "right"}, "right") == "left" ? EyeSide::kLeft
-                                                                                 : EyeSide::kRight;
-    config.vergence.gain = vergence->number_or("gain", 0.5, {0.0, 1.0, true, false});
-    config.vergence.min_confidence =
-        vergence->number_or("min_confidence", 0.3, Range::closed(0, 1));
-    config.vergence.max_step_rad = vergence->angle_rad_or("max_step", 0.05, Range::positive());
-    config.vergence.goal_disparity_px =
-        vergence->number_or("goal_disparity_px", 1.0, Range::non_negative());
+    // Keys left out keep VergenceTaskConfig's member initialisers, the one place of the defaults.
+    VergenceTaskConfig& v = config.vergence;
+    const std::string verging_eye = vergence->choice_or("verging_eye", {"left", "right"},
+                                                        std::string(hal::to_string(v.verging_eye)));
+    v.verging_eye = verging_eye == "left" ? hal::Eye::kLeft : hal::Eye::kRight;
+    v.gain = vergence->number_or("gain", v.gain, {0.0, 1.0, true, false});
+    v.min_confidence = vergence->number_or("min_confidence", v.min_confidence, Range::closed(0, 1));
+    v.max_step_rad = vergence->angle_rad_or("max_step", v.max_step_rad, Range::positive());
+    v.goal_disparity_px =
+        vergence->number_or("goal_disparity_px", v.goal_disparity_px, Range::non_negative());
     vergence->finish();
   }
   config.seed = static_cast<std::uint64_t>(

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace cambio::config {
 
@@ -18,6 +19,13 @@ inline std::string format_number(double value) {
 /// `text` in double quotes, as messages show names and text values.
 inline std::string in_quotes(std::string_view text) {
   return "\"" + std::string(text) + "\"";
+}
+
+/// "a, b, c": the names a message offers as choices.
+inline std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
 }
 
 }  // namespace cambio::config

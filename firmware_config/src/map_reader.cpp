@@ -139,27 +139,6 @@ std::string found(const YAML::Node& node) {
   }
 }
 
-std::string join(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return text;
-}
-
-/// The closest of `candidates` to `word`, if close enough to be a plausible typo.
-std::optional<std::string> closest(std::string_view word,
-                                   const std::set<std::string, std::less<>>& candidates) {
-  std::optional<std::string> best;
-  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 4) + 1;
-  for (const auto& candidate : candidates) {
-    const std::size_t distance = edit_distance(word, candidate);
-    if (distance < best_distance) {
-      best_distance = distance;
-      best = candidate;
-    }
-  }
-  return best;
-}
-
 }  // namespace
 
 MapReader::MapReader(YAML::Node node, std::string key_path, std::string file,
@@ -576,11 +555,11 @@ void MapReader::finish() {
     const std::string& key = it->first.Scalar();
     if (read_keys_.contains(key)) continue;
     std::string message = "unknown key " + in_quotes(key);
-    if (const auto suggestion = closest(key, read_keys_)) {
+    const std::vector<std::string> known(read_keys_.begin(), read_keys_.end());
+    if (const auto suggestion = closest_name(key, known)) {
       message += "; did you mean " + in_quotes(*suggestion) + "?";
     } else {
-      message += "; expected one of " +
-                 join(std::vector<std::string>(read_keys_.begin(), read_keys_.end()));
+      message += "; expected one of " + join(known);
     }
     record(it->first.Mark(), child_path(key), std::move(message));
   }
@@ -629,6 +608,21 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
     }
   }
   return row[b.size()];
+}
+
+std::optional<std::string> closest_name(std::string_view word,
+                                        const std::vector<std::string>& candidates,
+                                        std::optional<std::size_t> max_distance) {
+  std::optional<std::string> best;
+  std::size_t best_distance = max_distance.value_or(std::max<std::size_t>(2, word.size() / 4)) + 1;
+  for (const auto& candidate : candidates) {
+    const std::size_t distance = edit_distance(word, candidate);
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = candidate;
+    }
+  }
+  return best;
 }
 
 }  // namespace cambio::config

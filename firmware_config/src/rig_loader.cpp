@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <numbers>
 #include <set>
@@ -20,6 +18,11 @@ constexpr std::string_view kBase = "base";
 constexpr double kBaselineTolerance_m = 1e-6;
 /// Highest loop or physics rate accepted; beyond it a "rate" is a typo, not a plan.
 constexpr double kMaxRate_hz = 100'000.0;
+// The joint loop's watchdogs: 20 control periods for targets and 20 joint periods for feedback
+// at the default rates; an hour bounds them (a loop that waits longer is not watching).
+constexpr double kDefaultCommandTimeout_s = 0.1;
+constexpr double kDefaultFeedbackTimeout_s = 0.02;
+constexpr double kMaxJointTimeout_s = 3600.0;
 
 /// Counts issues so a consistency check runs only on values that were read cleanly (and does
 /// not pile a second message on a value already reported).
@@ -34,12 +37,6 @@ class CleanRead {
   std::size_t start_;
 };
 
-std::string join(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return text;
-}
-
 /// `expected one of a, b, c, found "x"` with a "did you mean" when one name is close.
 std::string unknown_name_message(std::string_view what, const std::string& name,
                                  const std::vector<std::string>& known) {
@@ -50,16 +47,9 @@ std::string unknown_name_message(std::string_view what, const std::string& name,
     message += " (" + join(known) + ")";
   }
   message += ", found " + in_quotes(name);
-  std::size_t best = std::max<std::size_t>(2, name.size() / 4) + 1;
-  std::string suggestion;
-  for (const auto& candidate : known) {
-    const std::size_t distance = edit_distance(name, candidate);
-    if (distance < best) {
-      best = distance;
-      suggestion = candidate;
-    }
+  if (const auto suggestion = closest_name(name, known)) {
+    message += "; did you mean " + in_quotes(*suggestion) + "?";
   }
-  if (!suggestion.empty()) message += "; did you mean " + in_quotes(suggestion) + "?";
   return message;
 }
 
@@ -285,6 +275,13 @@ LoopConfig read_loop(const std::string& name, MapReader& r) {
   loop.overrun = r.choice_or("overrun", {"skip", "catch_up"}, "skip") == "catch_up"
                      ? OverrunPolicy::kCatchUp
                      : OverrunPolicy::kSkip;
+  if (name == "joint") {
+    const Range timeout_range{0.0, kMaxJointTimeout_s, true, false};
+    loop.command_timeout_s =
+        r.number_or("command_timeout_s", kDefaultCommandTimeout_s, timeout_range);
+    loop.feedback_timeout_s =
+        r.number_or("feedback_timeout_s", kDefaultFeedbackTimeout_s, timeout_range);
+  }
   r.finish();
   return loop;
 }
@@ -489,7 +486,8 @@ std::vector<std::string> names_of(const auto& items) {
 
 std::vector<LoopConfig> default_loops() {
   return {
-      LoopConfig{"joint", 1000.0, 0, -1, OverrunPolicy::kSkip},
+      LoopConfig{"joint", 1000.0, 0, -1, OverrunPolicy::kSkip, kDefaultCommandTimeout_s,
+                 kDefaultFeedbackTimeout_s},
       LoopConfig{"control", 200.0, 0, -1, OverrunPolicy::kSkip},
       LoopConfig{"perception", 60.0, 0, -1, OverrunPolicy::kSkip},
       LoopConfig{"camera", 30.0, 0, -1, OverrunPolicy::kSkip},
@@ -627,26 +625,6 @@ RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
                                const std::vector<ConfigOverride>& overrides) {
   ConfigDocument document = ConfigDocument::from_string(yaml, name, overrides);
   return read_rig(document.root(), document.file());
-}
-
-std::string shipped_config_dir() {
-  if (const char* from_env = std::getenv("CAMBIO_CONFIG_DIR"); from_env && *from_env) {
-    return from_env;
-  }
-  namespace fs = std::filesystem;
-  const fs::path install_dir = CAMBIO_INSTALL_CONFIG_DIR;
-  std::error_code error;
-  if (fs::is_directory(install_dir, error)) {
-    // <prefix>/share/cambio/firmware_config: the program is installed when it runs from under
-    // <prefix>; a build tree's program uses the source tree even if an older install exists.
-    const fs::path prefix = install_dir.parent_path().parent_path().parent_path();
-    const fs::path program = fs::read_symlink("/proc/self/exe", error);
-    if (!error) {
-      const auto relative = program.lexically_relative(prefix);
-      if (!relative.empty() && *relative.begin() != "..") return install_dir.string();
-    }
-  }
-  return CAMBIO_SOURCE_CONFIG_DIR;
 }
 
 }  // namespace cambio::config

@@ -2,18 +2,16 @@
 // problem is reported at once with file:line:col.
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
 
 namespace cambio::config {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::array<double, 3> read_rgb(MapReader& map, std::string_view key,
                                std::array<double, 3> fallback) {
@@ -184,8 +182,8 @@ SceneConfig read_scene(MapReader root, const std::string& file) {
   if (auto overview = root.optional_map("overview_camera")) {
     scene.overview.xyz_m = overview->vector3_or("xyz_m", scene.overview.xyz_m);
     scene.overview.look_at_m = overview->vector3_or("look_at_m", scene.overview.look_at_m);
-    scene.overview.fovy_rad =
-        overview->angle_rad_or("fovy", scene.overview.fovy_rad, Range{0.0, kPi, true, true});
+    scene.overview.fovy_rad = overview->angle_rad_or("fovy", scene.overview.fovy_rad,
+                                                     Range{0.0, std::numbers::pi, true, true});
     overview->finish();
   }
   std::set<std::string> names;
@@ -212,15 +210,6 @@ SceneConfig load_scene_from_string(const std::string& yaml, const std::string& n
                                    const std::vector<ConfigOverride>& overrides) {
   auto document = ConfigDocument::from_string(yaml, name, overrides);
   return read_scene(document.root(), name);
-}
-
-std::string resolve_scene_path(const std::string& scene_argument) {
-  if (std::filesystem::exists(scene_argument)) return scene_argument;
-  std::filesystem::path shipped =
-      std::filesystem::path(shipped_config_dir()) / "scenes" / scene_argument;
-  if (shipped.extension() != ".yaml") shipped += ".yaml";
-  if (std::filesystem::exists(shipped)) return shipped.string();
-  return scene_argument;  // The loader reports it as unreadable, naming the path.
 }
 
 }  // namespace cambio::config

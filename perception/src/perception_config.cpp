@@ -1,9 +1,10 @@
 #include "cambio/perception/perception_config.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "cambio/config/map_reader.hpp"
+#include "cambio/config/shipped_config.hpp"
 #include "cambio/perception/gaussian_kernels.hpp"
 #include "cambio/perception/operator_bank.hpp"
 #include "cambio/perception/retina.hpp"
@@ -19,22 +20,21 @@ std::string in_quotes(const std::string& text) {
   return '"' + text + '"';
 }
 
-/// Checks a feature-map name against the operator set, with a "did you mean".
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// Checks a feature-map name against the operator set's, with a "did you mean" (up to 3 edits:
+/// map names are short and differ in their scale digits).
 void check_map_name(config::MapReader& reader, std::string_view key, const std::string& name,
-                    const std::vector<MapSpec>& specs, std::size_t index, bool listed) {
-  std::string best;
-  std::size_t best_distance = std::string::npos;
-  for (const auto& spec : specs) {
-    if (spec.name == name) return;
-    const std::size_t distance = config::edit_distance(name, spec.name);
-    if (distance < best_distance) {
-      best_distance = distance;
-      best = spec.name;
-    }
-  }
+                    const std::vector<std::string>& map_names, std::size_t index, bool listed) {
+  if (contains(map_names, name)) return;
   std::string message = "unknown feature map " + in_quotes(name);
-  message += best_distance <= 3 ? "; did you mean " + in_quotes(best) + "?"
-                                : "; the operator set makes e.g. " + in_quotes(specs.back().name);
+  if (const auto suggestion = config::closest_name(name, map_names, 3)) {
+    message += "; did you mean " + in_quotes(*suggestion) + "?";
+  } else {
+    message += "; the operator set makes e.g. " + in_quotes(map_names.back());
+  }
   if (listed) {
     reader.error(key, index, std::move(message));
   } else {
@@ -102,6 +102,8 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     root.error("operators", "the operator set makes " + std::to_string(specs.size()) +
                                 " maps per level; at most 64 are supported");
   }
+  std::vector<std::string> map_names;
+  for (const auto& spec : specs) map_names.push_back(spec.name);
   for (std::size_t i = 0; i < specs.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       if (specs[i].name == specs[j].name) {
@@ -117,7 +119,7 @@ SsmConfig read_ssm_config(config::MapReader& root) {
       d.features = reader->strings("features");
       if (d.features.empty()) reader->error("features", "expected at least one feature map");
       for (std::size_t i = 0; i < d.features.size(); ++i) {
-        check_map_name(*reader, "features", d.features[i], specs, i, true);
+        check_map_name(*reader, "features", d.features[i], map_names, i, true);
       }
     }
     d.search_range_px =
@@ -136,9 +138,7 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     reader->finish();
   } else {
     for (const auto& name : config.disparity.features) {
-      bool found = false;
-      for (const auto& spec : specs) found = found || spec.name == name;
-      if (!found) {
+      if (!contains(map_names, name)) {
         root.error("operators", "the default disparity feature " + in_quotes(name) +
                                     " is not made by this operator set; set disparity.features");
       }
@@ -160,7 +160,7 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     MomentsConfig& m = config.moments;
     m.enabled = reader->boolean_or("enabled", true);
     m.map = reader->text_or("map", m.map);
-    check_map_name(*reader, "map", m.map, specs, 0, false);
+    check_map_name(*reader, "map", m.map, map_names, 0, false);
     const std::string mode = reader->choice_or("mode", {"weighted", "above", "below"}, "above");
     m.mode = mode == "weighted" ? MomentsConfig::Mode::kWeighted
              : mode == "below"  ? MomentsConfig::Mode::kBelow
@@ -182,12 +182,7 @@ SsmConfig load_ssm_config(const std::string& path,
 }
 
 std::string default_ssm_config_path() {
-  for (const char* dir : {CAMBIO_SOURCE_CONFIG_DIR, CAMBIO_INSTALL_CONFIG_DIR}) {
-    const std::filesystem::path path = std::filesystem::path(dir) / "perception" / "ssm.yaml";
-    std::error_code error;
-    if (std::filesystem::exists(path, error)) return path.string();
-  }
-  return {};
+  return config::find_shipped_config("perception/ssm.yaml");
 }
 
 }  // namespace cambio::perception

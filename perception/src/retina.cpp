@@ -3,15 +3,15 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cambio/hal/luma.hpp"
+
 namespace cambio::perception {
 
 namespace {
 
-// Rec. 601 luma in 8.8 fixed point (77 + 150 + 29 = 256).
 void rgb_row_to_grey(const std::uint8_t* rgb, std::uint8_t* grey, int width) {
   for (int x = 0; x < width; ++x) {
-    const unsigned v = 77u * rgb[3 * x] + 150u * rgb[3 * x + 1] + 29u * rgb[3 * x + 2] + 128u;
-    grey[x] = static_cast<std::uint8_t>(v >> 8);
+    grey[x] = hal::luma_bt601(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]);
   }
 }
 

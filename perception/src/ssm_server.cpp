@@ -5,24 +5,29 @@
 
 namespace cambio::perception {
 
-SsmServer::SsmServer(std::string name, hal::Camera& left, hal::Camera& right, SsmConfig config)
+SsmServer::SsmServer(std::string name, hal::TripleBuffer<hal::StereoFrame>& pairs,
+                     const hal::CameraInfo& left, const hal::CameraInfo& right, SsmConfig config)
     : name_(std::move(name)),
-      left_camera_(left),
-      right_camera_(right),
+      pairs_(pairs),
+      left_info_(left),
+      right_info_(right),
       config_(std::move(config)) {}
 
 SsmServer::~SsmServer() = default;
 
 void SsmServer::configure() {
-  const hal::CameraInfo& left = left_camera_.info();
-  const hal::CameraInfo& right = right_camera_.info();
+  const hal::CameraInfo& left = left_info_;
+  const hal::CameraInfo& right = right_info_;
   if (left.intrinsics.width_px != right.intrinsics.width_px ||
       left.intrinsics.height_px != right.intrinsics.height_px) {
     throw std::invalid_argument("SSM '" + name_ + "': cameras '" + left.name + "' and '" +
                                 right.name + "' differ in size");
   }
-  left_image_.resize(left.intrinsics.width_px, left.intrinsics.height_px, left.format);
-  right_image_.resize(right.intrinsics.width_px, right.intrinsics.height_px, right.format);
+  if (!(left.rate_hz > 0.0)) {
+    throw std::invalid_argument("SSM '" + name_ + "': camera '" + left.name +
+                                "' has no positive rate");
+  }
+  max_stamp_skew_ns_ = static_cast<std::int64_t>(0.5e9 / left.rate_hz);
   servo_ =
       std::make_unique<SensoryServo>(config_, left.intrinsics.width_px, left.intrinsics.height_px);
   frames_ = std::make_unique<hal::TripleBuffer<SsmFrame>>(servo_->make_frame());
@@ -34,27 +39,30 @@ void SsmServer::activate() {
 
 hal::Status SsmServer::update(const hal::LoopTick& /*tick*/) noexcept {
   if (!servo_) return hal::Status::kRejected;
-  const hal::Status left = left_camera_.grab(left_image_);
-  const hal::Status right = right_camera_.grab(right_image_);
-  if (left == hal::Status::kNoNewData && right == hal::Status::kNoNewData) {
-    return hal::Status::kNoNewData;
-  }
-  const auto usable = [](hal::Status status) {
-    return status == hal::Status::kOk || status == hal::Status::kNoNewData;
+  if (!pairs_.acquire()) return hal::Status::kNoNewData;
+  const hal::StereoFrame& pair = pairs_.front();
+  if (!pair.complete()) return hal::Status::kNoNewData;
+  const auto matches = [](const hal::Image& image, const hal::CameraInfo& info) {
+    return image.width_px == info.intrinsics.width_px &&
+           image.height_px == info.intrinsics.height_px && image.format == info.format;
   };
-  if (!usable(left) || !usable(right)) return usable(left) ? right : left;
-  if (left_image_.sequence == 0 || right_image_.sequence == 0) return hal::Status::kNoNewData;
+  if (!matches(pair.left, left_info_) || !matches(pair.right, right_info_)) {
+    return hal::Status::kRejected;
+  }
+  if (pair.stamp_skew_ns() > max_stamp_skew_ns_) {
+    ++mismatched_pairs_;
+    return hal::Status::kRejected;
+  }
 
-  SsmRequest request;
-  requests_.read(request);
-  std::array<PixelPoint, 2> fixation = request.fixation;
-  if (!request.fixation_set) {
-    fixation[0] = {left_image_.width_px / 2, left_image_.height_px / 2};
-    fixation[1] = {right_image_.width_px / 2, right_image_.height_px / 2};
+  (void)requests_.read(request_);
+  std::array<PixelPoint, 2> fixation = request_.fixation;
+  if (!request_.fixation_set) {
+    fixation[0] = {pair.left.width_px / 2, pair.left.height_px / 2};
+    fixation[1] = {pair.right.width_px / 2, pair.right.height_px / 2};
   }
   SsmFrame& frame = frames_->back();
   const hal::Status status =
-      servo_->process(left_image_, right_image_, fixation[0], fixation[1], request.features, frame);
+      servo_->process(pair.left, pair.right, fixation[0], fixation[1], request_.features, frame);
   if (status != hal::Status::kOk) return status;
   frames_->publish();
   summaries_.write(frame.summary);

@@ -27,6 +27,8 @@ GroundTruth::GroundTruth(const World& world, hal::TripleBuffer<WorldSnapshot>& t
   mj_copyData(data_, world_.model(), world_.data());
   mj_kinematics(world_.model(), data_);
   mj_camlight(world_.model(), data_);
+  current_.resize_for(world_.model());
+  current_.capture(world_.model(), world_.data(), 0, 0);
 }
 
 GroundTruth::~GroundTruth() {
@@ -36,22 +38,21 @@ GroundTruth::~GroundTruth() {
 void GroundTruth::refresh() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!snapshots_.acquire()) return;
-  const WorldSnapshot& snapshot = snapshots_.front();
-  snapshot.restore(world_.model(), data_);
+  // Same-sized vectors: the copy does not allocate.
+  current_ = snapshots_.front();
+  current_.restore(world_.model(), data_);
   mj_kinematics(world_.model(), data_);
   mj_camlight(world_.model(), data_);
-  step_ = snapshot.step;
-  stamp_ns_ = snapshot.stamp_ns;
 }
 
 std::int64_t GroundTruth::stamp_ns() {
   refresh();
-  return stamp_ns_;
+  return current_.stamp_ns;
 }
 
 std::uint64_t GroundTruth::step() {
   refresh();
-  return step_;
+  return current_.step;
 }
 
 double GroundTruth::joint_position_rad(const std::string& joint_name) {
@@ -112,16 +113,17 @@ void GroundTruth::render(const std::string& camera_name, int width_px, int heigh
       static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px);
   rgb_bottom_up_.resize(pixels * 3);
   if (depth_m != nullptr) depth_bottom_up_.resize(pixels);
+  refresh();
   {
-    std::lock_guard<std::mutex> lock(renderer.mutex());
-    if (render_snapshots_ != nullptr && render_snapshots_->acquire()) {
-      renderer.set_state(render_snapshots_->front());
-    }
+    // Not a loop: it may wait for a camera to finish with the renderer.
+    const Renderer::Lease lease(renderer, Renderer::Lease::Mode::kWait);
+    std::lock_guard<std::mutex> lock(mutex_);
+    renderer.set_state(current_);
     if (!renderer.render(id, width_px, height_px, view, rgb_bottom_up_.data(),
                          depth_m != nullptr ? depth_bottom_up_.data() : nullptr)) {
       throw MujocoError("MuJoCo could not render '" + camera_name + "'");
     }
-    rgb.stamp_ns = renderer.state_stamp_ns();
+    rgb.stamp_ns = current_.stamp_ns;
   }
   rgb.resize(width_px, height_px, hal::PixelFormat::kRgb8);
   SimCamera::convert_rows(rgb_bottom_up_.data(), width_px, height_px, hal::PixelFormat::kRgb8, rgb);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iomanip>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -27,7 +28,6 @@ using config::SceneObjectConfig;
 using config::ShapeKind;
 using config::TextureKind;
 
-constexpr double kPi = 3.14159265358979323846;
 // Cube-map face size bounds (texels) and texels per feature for generated textures.
 constexpr int kMinFacePx = 32;
 constexpr int kMaxFacePx = 512;
@@ -264,17 +264,19 @@ class Builder {
     const SkyPlane planes[] = {
         {"sky_front",
          {d, 0, 0},
-         Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix()},
+         Eigen::AngleAxisd(-std::numbers::pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix()},
         {"sky_back",
          {-d, 0, 0},
-         Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix()},
+         Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix()},
         {"sky_left",
          {0, d, 0},
-         Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix()},
+         Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix()},
         {"sky_right",
          {0, -d, 0},
-         Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix()},
-        {"sky_top", {0, 0, d}, Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()).toRotationMatrix()},
+         Eigen::AngleAxisd(-std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix()},
+        {"sky_top",
+         {0, 0, d},
+         Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix()},
     };
     for (const auto& plane : planes) {
       xml << "    <geom name=\"" << plane.name << "\" type=\"plane\" size=\"" << num(d) << " "
@@ -295,7 +297,7 @@ class Builder {
     const Eigen::Vector3d up = right.cross(forward);
     xml << "    <camera name=\"" << kOverviewCameraName << "\" mode=\"fixed\" pos=\""
         << vec(position) << "\" xyaxes=\"" << vec(right) << " " << vec(up) << "\" fovy=\""
-        << num(overview.fovy_rad * 180.0 / kPi) << "\"/>\n";
+        << num(overview.fovy_rad * 180.0 / std::numbers::pi) << "\"/>\n";
   }
 
   // The robot's trunk: a column from the floor up to the lowest link hanging from the base and,
@@ -448,7 +450,7 @@ class Builder {
     const Eigen::Matrix3d R_parent_mujoco =
         R_parent_optical * Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
     const double fovy_deg =
-        2.0 * std::atan(camera.height_px / (2.0 * camera.focal_y_px)) * 180.0 / kPi;
+        2.0 * std::atan(camera.height_px / (2.0 * camera.focal_y_px)) * 180.0 / std::numbers::pi;
     xml << indent << "<camera name=\"" << xml_escape(camera.name) << "\" pos=\""
         << vec(camera.mount.xyz_m) << "\" quat=\"" << quat(R_parent_mujoco) << "\" fovy=\""
         << num(fovy_deg) << "\"/>\n";

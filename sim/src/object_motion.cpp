@@ -1,12 +1,9 @@
 #include "cambio/sim/object_motion.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace cambio::sim {
-
-namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-}
 
 std::array<double, 3> scripted_position(const config::SceneObjectConfig& object,
                                         double t_s) noexcept {
@@ -34,7 +31,8 @@ std::array<double, 3> scripted_position(const config::SceneObjectConfig& object,
     }
     case config::MotionKind::kOscillate: {
       if (t <= 0.0) return p0;
-      const double offset = motion.amplitude_m * std::sin(kTwoPi * t / motion.period_s);
+      const double offset =
+          motion.amplitude_m * std::sin(2 * std::numbers::pi * t / motion.period_s);
       return {p0[0] + offset * motion.axis[0], p0[1] + offset * motion.axis[1],
               p0[2] + offset * motion.axis[2]};
     }
@@ -51,7 +49,7 @@ std::array<double, 3> scripted_position(const config::SceneObjectConfig& object,
       for (auto& c : u) c /= norm;
       const std::array<double, 3> v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2],
                                     n[0] * u[1] - n[1] * u[0]};
-      const double angle = t <= 0.0 ? 0.0 : kTwoPi * t / motion.period_s;
+      const double angle = t <= 0.0 ? 0.0 : 2 * std::numbers::pi * t / motion.period_s;
       const double a = motion.radius_m * (std::cos(angle) - 1.0);
       const double b = motion.radius_m * std::sin(angle);
       return {p0[0] + a * u[0] + b * v[0], p0[1] + a * u[1] + b * v[1],

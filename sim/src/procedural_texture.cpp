@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -91,7 +92,7 @@ void fill_procedural_texture(const config::TextureConfig& texture, std::array<do
       for (int y = 0; y < height_px; ++y) {
         for (int x = 0; x < width_px; ++x) {
           const double phase = (x + 0.5) / cell_w;
-          const double t = 0.5 + 0.5 * std::sin(phase * 3.14159265358979323846);
+          const double t = 0.5 + 0.5 * std::sin(phase * std::numbers::pi);
           put(rgb_out, static_cast<std::size_t>(y * width_px + x), rgb, second, smooth(t));
         }
       }

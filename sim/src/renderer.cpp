@@ -1,10 +1,24 @@
 #include "cambio/sim/renderer.hpp"
 
+#include <thread>
+
 #include <mujoco/mujoco.h>
 
 #include "cambio/sim/mujoco_error.hpp"
 
 namespace cambio::sim {
+
+Renderer::Lease::Lease(Renderer& renderer, Mode mode) noexcept : renderer_(renderer) {
+  held_ = !renderer_.busy_.test_and_set(std::memory_order_acquire);
+  while (!held_ && mode == Mode::kWait) {
+    std::this_thread::yield();
+    held_ = !renderer_.busy_.test_and_set(std::memory_order_acquire);
+  }
+}
+
+Renderer::Lease::~Lease() {
+  if (held_) renderer_.busy_.clear(std::memory_order_release);
+}
 
 Renderer::Renderer(const World& world)
     : world_(world),

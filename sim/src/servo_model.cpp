@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace cambio::sim {
-
-namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
-}
 
 ServoParams ServoParams::from_joint(const config::JointConfig& joint, double step_s) {
   ServoParams params;
@@ -31,7 +28,7 @@ ServoModel::ServoModel(ServoParams params, std::uint64_t seed, double initial_po
     : params_(std::move(params)) {
   const double start =
       std::clamp(initial_position_rad, params_.min_position_rad, params_.max_position_rad);
-  const hal::JointCommand hold{hal::CommandMode::kPosition, start};
+  const hal::JointCommand hold{hal::CommandMode::kPosition, start, 0.0, 0.0};
   state_.pending = hold;
   state_.active = hold;
   state_.pipeline.assign(static_cast<std::size_t>(params_.dead_time_steps) + 1, hold);
@@ -130,6 +127,33 @@ void ServoModel::step() noexcept {
   ++s.steps;
 }
 
+void ServoModel::replace_queue(const hal::JointCommand& command) noexcept {
+  state_.pending = command;
+  state_.active = command;
+  std::fill(state_.pipeline.begin(), state_.pipeline.end(), command);
+}
+
+void ServoModel::brake_to_stop() noexcept {
+  // A velocity target of 0 is the velocity profile's ramp down at the acceleration limit; it
+  // then stays at rest (no motion error is drawn while at rest).
+  replace_queue({hal::CommandMode::kVelocity, 0.0, 0.0, 0.0});
+}
+
+void ServoModel::hold_at(double measured_position_rad) noexcept {
+  auto& s = state_;
+  const double q =
+      std::clamp(measured_position_rad, params_.min_position_rad, params_.max_position_rad);
+  // Motor and output both at the measured position: the backlash band is centred and the motion
+  // error starts from zero, so the output does not move on the next step.
+  s.profile_position_rad = q;
+  s.profile_velocity_rad_s = 0.0;
+  s.motion_error_rad = 0.0;
+  s.motor_position_rad = q;
+  s.output_position_rad = q;
+  s.output_velocity_rad_s = 0.0;
+  replace_queue({hal::CommandMode::kPosition, q, 0.0, 0.0});
+}
+
 void ServoModel::observe(double true_position_rad) noexcept {
   auto& s = state_;
   s.encoder_head = (s.encoder_head + 1) % s.encoder_history.size();
@@ -150,7 +174,8 @@ double ServoModel::encoder_velocity_rad_s() const {
 
 double ServoModel::quantise(double position_rad) const noexcept {
   if (params_.encoder_counts_per_rev <= 0) return position_rad;
-  const double count_rad = kTwoPi / static_cast<double>(params_.encoder_counts_per_rev);
+  const double count_rad =
+      2 * std::numbers::pi / static_cast<double>(params_.encoder_counts_per_rev);
   return std::round(position_rad / count_rad) * count_rad;
 }
 

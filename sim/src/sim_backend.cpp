@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "cambio/config/scene_config.hpp"
+#include "camera_frames.hpp"
 #include "sim_camera.hpp"
 #include "sim_joint_group.hpp"
 #include "sim_touch_sensor.hpp"
@@ -17,112 +17,188 @@ std::string quoted(std::string_view name) {
 
 }  // namespace
 
-void register_sim_backend(hal::BackendFactory& factory) {
-  factory.register_backend(
-      "sim", [](const config::RigConfig& rig, const hal::BackendOptions& options) {
-        config::SceneConfig scene;
-        if (!options.scene_path.empty()) {
-          scene = config::load_scene(config::resolve_scene_path(options.scene_path));
-        } else {
-          scene.name = "empty";
-        }
-        return std::unique_ptr<hal::Backend>(std::make_unique<SimBackend>(rig, scene, options));
-      });
+void register_sim_backend(hal::BackendFactory& factory, const config::RigConfig& rig,
+                          config::SceneConfig scene) {
+  factory.register_backend("sim",
+                           [rig, scene = std::move(scene)](const hal::HardwareInfo& hardware,
+                                                           const hal::BackendContext& context) {
+                             return std::unique_ptr<hal::Backend>(
+                                 std::make_unique<SimBackend>(rig, scene, hardware, context));
+                           });
 }
 
 SimBackend::SimBackend(const config::RigConfig& rig, const config::SceneConfig& scene,
-                       const hal::BackendOptions& options, const MjcfOptions& mjcf_options)
-    : rig_(rig), options_(options) {
+                       const hal::HardwareInfo& hardware, const hal::BackendContext& context,
+                       const MjcfOptions& mjcf_options)
+    : rig_(rig), hardware_(hardware), seed_(context.seed) {
+  if (context.clock == nullptr) {
+    throw std::invalid_argument("sim: no clock given (BackendContext::clock)");
+  }
   world_ = std::make_unique<World>(rig_, scene, mjcf_options);
-  physics_ = std::make_unique<PhysicsLoop>(*world_, options_.seed);
+  for (const auto& joint : hardware_.joints) {
+    if (world_->find_joint(joint.name) < 0) {
+      throw std::invalid_argument("sim: the hardware description names joint " +
+                                  quoted(joint.name) + ", which rig " + quoted(rig_.name) +
+                                  " does not have");
+    }
+  }
+  physics_ = std::make_unique<PhysicsLoop>(*world_, *context.clock, seed_);
+  camera_frames_ = std::make_unique<CameraFrames>(physics_->render_snapshots());
   ground_truth_ = std::make_unique<GroundTruth>(*world_, physics_->truth_snapshots());
-  ground_truth_->set_renderer_provider([this]() -> Renderer& { return renderer(); },
-                                       &physics_->render_snapshots());
+  ground_truth_->set_renderer_provider([this]() -> Renderer& { return renderer(); });
 }
 
 SimBackend::~SimBackend() = default;
 
 std::unique_ptr<hal::JointGroup> SimBackend::make_joint_group(std::string_view group_name) {
-  const config::JointGroupConfig* group = rig_.find_group(std::string(group_name));
+  const hal::JointGroupInfo* group = hardware_.find_group(group_name);
   if (group == nullptr) {
     throw std::runtime_error("sim: the rig has no joint group " + quoted(group_name));
   }
+  if (followed_groups_.count(group_name) != 0) {
+    throw hal::BackendUnavailable("sim: joint group " + quoted(group_name) +
+                                  " is driven by backend " + quoted(group->backend) +
+                                  " and followed by the sim; it cannot also be a sim group");
+  }
   if (group->backend != "sim") {
-    throw std::runtime_error("sim: joint group " + quoted(group_name) + " names backend '" +
-                             group->backend + "', not 'sim'");
+    throw hal::BackendUnavailable("sim: joint group " + quoted(group_name) + " names backend " +
+                                  quoted(group->backend) +
+                                  ", not 'sim' (the sim can only follow it: follow_group)");
   }
   if (group->joints.size() > kMaxJointsPerGroup) {
     throw std::runtime_error("sim: joint group " + quoted(group_name) + " has " +
                              std::to_string(group->joints.size()) + " joints; at most " +
                              std::to_string(kMaxJointsPerGroup) + " are supported");
   }
-  if (!made_groups_.insert(std::string(group_name)).second) {
+  if (made_groups_.count(group_name) != 0) {
     throw std::runtime_error("sim: joint group " + quoted(group_name) +
                              " was already made (one writer per group)");
   }
-  hal::JointGroupInfo info;
-  info.name = group->name;
-  info.backend = "sim";
   std::vector<int> indices;
   for (const auto& joint_name : group->joints) {
     const int index = world_->find_joint(joint_name);
-    const config::JointConfig* joint = rig_.find_joint(joint_name);
-    if (index < 0 || joint == nullptr) {
+    if (index < 0) {
       throw std::runtime_error("sim: joint group " + quoted(group_name) + " names unknown joint " +
                                quoted(joint_name));
     }
     indices.push_back(index);
-    info.joints.push_back(joint_name);
-    info.limits.push_back({joint->min_position_rad, joint->max_position_rad,
-                           joint->max_velocity_rad_s, joint->max_acceleration_rad_s2,
-                           joint->max_effort_nm});
   }
   GroupLink& link = physics_->add_group(group->name, indices);
-  // Readings exist before the first physics step.
-  physics_->activate();
-  return std::make_unique<SimJointGroup>(std::move(info), link);
+  made_groups_.insert(group->name);
+  return std::make_unique<SimJointGroup>(*group, link);
+}
+
+void SimBackend::follow_group(const hal::JointGroupInfo& group,
+                              const hal::JointStateSource& leader) {
+  const hal::JointGroupInfo* known = hardware_.find_group(group.name);
+  if (known == nullptr) {
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+                                  ": the rig has no such group");
+  }
+  if (made_groups_.count(group.name) != 0 || known->backend == "sim") {
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+                                  ": the sim drives it itself (backend 'sim'); only a group "
+                                  "another backend drives can be followed");
+  }
+  if (followed_groups_.count(group.name) != 0) {
+    throw hal::BackendUnavailable("sim: joint group " + quoted(group.name) +
+                                  " is already followed (one leader per group)");
+  }
+  if (group.joints.size() > hal::JointStateSource::kMaxJoints) {
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+                                  ": more than " +
+                                  std::to_string(hal::JointStateSource::kMaxJoints) + " joints");
+  }
+  std::vector<int> indices;
+  for (const auto& joint_name : group.joints) {
+    const int index = world_->find_joint(joint_name);
+    if (index < 0) {
+      throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+                                    ": its joint " + quoted(joint_name) +
+                                    " is not in the sim world");
+    }
+    indices.push_back(index);
+  }
+  physics_->add_follower(group.name, indices, leader);
+  followed_groups_.insert(group.name);
 }
 
 std::unique_ptr<hal::Camera> SimBackend::make_camera(std::string_view camera_name) {
-  const config::CameraConfig* camera = rig_.find_camera(std::string(camera_name));
-  if (camera == nullptr)
+  const hal::CameraInfo* camera = hardware_.find_camera(camera_name);
+  const config::CameraConfig* config = rig_.find_camera(std::string(camera_name));
+  if (camera == nullptr || config == nullptr) {
     throw std::runtime_error("sim: the rig has no camera " + quoted(camera_name));
-  if (camera->backend != "sim") {
-    throw std::runtime_error("sim: camera " + quoted(camera_name) + " names backend '" +
-                             camera->backend + "', not 'sim'");
   }
-  if (!made_cameras_.insert(std::string(camera_name)).second) {
+  if (camera->backend != "sim") {
+    throw hal::BackendUnavailable("sim: camera " + quoted(camera_name) + " names backend " +
+                                  quoted(camera->backend) + ", not 'sim'");
+  }
+  if (made_cameras_.count(camera_name) != 0) {
     throw std::runtime_error("sim: camera " + quoted(camera_name) + " was already made");
   }
-  hal::CameraInfo info;
-  info.name = camera->name;
-  info.frame_name = camera->parent;
-  info.intrinsics = {camera->width_px,   camera->height_px,      camera->focal_x_px,
-                     camera->focal_y_px, camera->principal_x_px, camera->principal_y_px};
-  info.format = camera->format == config::PixelFormatConfig::kGrey8 ? hal::PixelFormat::kGrey8
-                                                                    : hal::PixelFormat::kRgb8;
-  if (const config::LoopConfig* loop = rig_.find_loop("camera")) info.rate_hz = loop->rate_hz;
   // Noise streams after the servos' (one per joint).
   const std::uint64_t stream = 0x10000 + camera_streams_++;
-  return std::make_unique<SimCamera>(std::move(info), world_->camera_id(camera->name), renderer(),
-                                     physics_->render_snapshots(), camera->image_noise_std,
-                                     options_.seed * 0x100000001B3ULL + stream);
+  auto made = std::make_unique<SimCamera>(*camera, world_->camera_id(camera->name), renderer(),
+                                          *camera_frames_, config->image_noise_std,
+                                          seed_ * 0x100000001B3ULL + stream);
+  made_cameras_.insert(camera->name);
+  return made;
 }
 
 std::unique_ptr<hal::TouchSensor> SimBackend::make_touch_sensor(std::string_view sensor_name) {
-  for (const auto& sensor : rig_.touch_sensors) {
+  for (const auto& sensor : hardware_.touch_sensors) {
     if (sensor.name != sensor_name) continue;
+    if (sensor.backend != "sim") {
+      throw hal::BackendUnavailable("sim: touch sensor " + quoted(sensor_name) + " names backend " +
+                                    quoted(sensor.backend) + ", not 'sim'");
+    }
+    if (made_touch_sensors_.count(sensor_name) != 0) {
+      throw std::runtime_error("sim: touch sensor " + quoted(sensor_name) + " was already made");
+    }
     TouchLink& link =
         physics_->add_touch_sensor(sensor.name, world_->end_effector_bodies(sensor.parent));
-    physics_->activate();
+    made_touch_sensors_.insert(sensor.name);
     return std::make_unique<SimTouchSensor>(link);
   }
   throw std::runtime_error("sim: the rig has no touch sensor " + quoted(sensor_name));
 }
 
-hal::Clock& SimBackend::clock() {
-  if (options_.realtime) return monotonic_clock_;
-  return manual_clock_;
+void SimBackend::check_moved_by_sim(std::string_view device, const std::string& link) const {
+  std::string current = link;
+  // The hardware description refuses a parent chain that does not reach the base; the bound
+  // only guards the walk.
+  for (std::size_t hops = 0; current != "base" && hops <= hardware_.joints.size(); ++hops) {
+    const hal::JointInfo* joint = hardware_.find_joint(current);
+    if (joint == nullptr) return;
+    const hal::JointGroupInfo* group = hardware_.find_group(joint->group);
+    if (group != nullptr && group->backend != "sim" && followed_groups_.count(group->name) == 0) {
+      throw std::runtime_error(
+          "sim: " + std::string(device) + " hangs from joint " + quoted(joint->name) +
+          " of joint group " + quoted(group->name) + ", which backend " + quoted(group->backend) +
+          " drives and the sim does not follow, so the sim would never move it (follow the "
+          "group: Backend::follow_group)");
+    }
+    current = joint->parent;
+  }
+}
+
+void SimBackend::configure() {
+  for (const auto& camera_name : made_cameras_) {
+    check_moved_by_sim("camera " + quoted(camera_name),
+                       hardware_.find_camera(camera_name)->parent_frame);
+  }
+  for (const auto& sensor : hardware_.touch_sensors) {
+    if (made_touch_sensors_.count(sensor.name) == 0) continue;
+    check_moved_by_sim("touch sensor " + quoted(sensor.name), sensor.parent);
+  }
+}
+
+void SimBackend::activate() {
+  physics_->activate();
+}
+
+void SimBackend::deactivate() noexcept {
+  physics_->deactivate();
 }
 
 std::vector<hal::BackendLoop> SimBackend::loops() {
@@ -130,6 +206,32 @@ std::vector<hal::BackendLoop> SimBackend::loops() {
   if (const config::LoopConfig* joint_loop = rig_.find_loop("joint"))
     priority = joint_loop->priority;
   return {hal::BackendLoop{physics_.get(), rig_.sim.physics_rate_hz, priority}};
+}
+
+int SimBackend::sim_joint(std::string_view joint_name) const {
+  const hal::JointInfo* joint = hardware_.find_joint(joint_name);
+  const hal::JointGroupInfo* group =
+      joint != nullptr ? hardware_.find_group(joint->group) : nullptr;
+  if (group == nullptr || group->backend != "sim") {
+    throw std::invalid_argument("sim: joint " + quoted(joint_name) +
+                                " is not in a joint group the sim drives");
+  }
+  return world_->find_joint(joint_name);
+}
+
+void SimBackend::inject_fault(std::string_view joint_name, std::uint16_t emcy_error_code) {
+  if (emcy_error_code == 0) {
+    throw std::invalid_argument("sim: a fault needs an emergency error code (0 means none)");
+  }
+  physics_->inject_fault(sim_joint(joint_name), emcy_error_code);
+}
+
+void SimBackend::inject_comm_loss(std::string_view joint_name) {
+  physics_->inject_comm_loss(sim_joint(joint_name));
+}
+
+void SimBackend::freeze_feedback(std::string_view joint_name, bool frozen) {
+  physics_->freeze_feedback(sim_joint(joint_name), frozen);
 }
 
 Renderer& SimBackend::renderer() {

@@ -2,22 +2,23 @@
 
 #include <cstring>
 
+#include "cambio/hal/luma.hpp"
+
 namespace cambio::sim {
 
-SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer,
-                     hal::TripleBuffer<WorldSnapshot>& snapshots, double noise_std,
-                     std::uint64_t seed)
+SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer, CameraFrames& frames,
+                     double noise_std, std::uint64_t seed)
     : info_(std::move(info)),
       camera_id_(camera_id),
       renderer_(renderer),
-      snapshots_(snapshots),
+      frames_(frames),
       noise_(noise_std, seed),
       rgb_(static_cast<std::size_t>(info_.intrinsics.width_px) *
            static_cast<std::size_t>(info_.intrinsics.height_px) * 3) {
   // Mesa's llvmpipe compiles shader variants with LLVM on first use, which allocates through
   // operator new. Render once here, through this eye and through the overview (which sees every
   // material of the scene), so grab() never triggers a compile.
-  std::lock_guard<std::mutex> lock(renderer_.mutex());
+  const Renderer::Lease lease(renderer_, Renderer::Lease::Mode::kWait);
   const int width = info_.intrinsics.width_px;
   const int height = info_.intrinsics.height_px;
   (void)renderer_.render(camera_id_, width, height, ViewOptions{}, rgb_.data(), nullptr);
@@ -38,8 +39,7 @@ void SimCamera::convert_rows(const std::uint8_t* rgb_bottom_up, int width, int h
       std::memcpy(target, source, row_bytes);
     } else {
       for (int x = 0; x < width; ++x) {
-        const std::uint32_t r = source[3 * x], g = source[3 * x + 1], b = source[3 * x + 2];
-        target[x] = static_cast<std::uint8_t>((77 * r + 150 * g + 29 * b + 128) >> 8);
+        target[x] = hal::luma_bt601(source[3 * x], source[3 * x + 1], source[3 * x + 2]);
       }
     }
   }
@@ -54,23 +54,22 @@ hal::Status SimCamera::grab(hal::Image& out) {
   }
   std::int64_t stamp_ns = 0;
   {
-    std::lock_guard<std::mutex> lock(renderer_.mutex());
-    // Move the renderer on only once this camera has seen its current state, so both eyes of a
-    // cycle render the same instant.
-    // A camera that never rendered takes the renderer's state as it is (its stereo partner may
-    // just have rendered it), unless the renderer has none yet.
-    const bool seen_current = rendered_once_ && rendered_step_ == renderer_.state_step();
-    if (seen_current || !renderer_.has_state()) {
-      if (snapshots_.acquire()) renderer_.set_state(snapshots_.front());
+    // Never wait for the renderer: a camera loop that finds it taken (ground truth rendering on
+    // another thread) skips this cycle's image.
+    const Renderer::Lease lease(renderer_, Renderer::Lease::Mode::kTry);
+    if (!lease) return hal::Status::kNoNewData;
+    const WorldSnapshot* frame = frames_.frame_for(rendered_step_);
+    if (frame == nullptr || rendered_step_ == frame->step) return hal::Status::kNoNewData;
+    // Ground truth may have left the renderer at another instant.
+    if (!renderer_.has_state() || renderer_.state_step() != frame->step) {
+      renderer_.set_state(*frame);
     }
-    if (rendered_once_ && rendered_step_ == renderer_.state_step()) return hal::Status::kNoNewData;
     if (!renderer_.render(camera_id_, intrinsics.width_px, intrinsics.height_px, ViewOptions{},
                           rgb_.data(), nullptr)) {
       return hal::Status::kFault;
     }
-    rendered_step_ = renderer_.state_step();
-    rendered_once_ = true;
-    stamp_ns = renderer_.state_stamp_ns();
+    rendered_step_ = frame->step;
+    stamp_ns = frame->stamp_ns;
   }
   convert_rows(rgb_.data(), intrinsics.width_px, intrinsics.height_px, info_.format, out);
   noise_.apply(out.pixels);

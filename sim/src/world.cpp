@@ -97,7 +97,7 @@ World::~World() {
   mj_deleteModel(model_);
 }
 
-int World::find_joint(const std::string& joint_name) const {
+int World::find_joint(std::string_view joint_name) const {
   for (std::size_t i = 0; i < joints_.size(); ++i) {
     if (joints_[i].name == joint_name) return static_cast<int>(i);
   }

@@ -3,25 +3,27 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <set>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "run_cambio.hpp"
 
 namespace cambio {
 namespace {
 
+using testing::Capture;
 using testing::run_cambio;
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// The integer after `"key": ` in a JSON text (first occurrence), or -1.
-long long json_integer(const std::string& text, const std::string& key) {
-  const std::string pattern = "\"" + key + "\": ([0-9]+)";
-  std::smatch match;
-  if (!std::regex_search(text, match, std::regex(pattern))) return -1;
-  return std::stoll(match[1].str());
+nlohmann::json read_json(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  return nlohmann::json::parse(file);  // Throws (failing the test) on a missing or invalid file.
 }
 
 TEST(CambioCli, HelpListsTheCommands) {
@@ -52,31 +54,102 @@ TEST(CambioCli, EverySubcommandHasHelp) {
   }
 }
 
-TEST(CambioCli, LoopBenchJsonHasTheDocumentedKeys) {
-  const auto result = run_cambio("loop-bench --rate-hz 2000 --duration-s 0.2 --json");
-  ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* key :
-       {"\"loops\": [", "\"name\"", "\"rate_hz\": 2000", "\"p50_us\"", "\"p99_us\"", "\"p999_us\"",
-        "\"max_us\"", "\"overruns\"", "\"allocations_per_cycle\": 0"}) {
-    EXPECT_TRUE(contains(result.output, key)) << key << " missing from:\n" << result.output;
+// `text` as JSON; discarded (is_discarded()) when it is not valid JSON.
+nlohmann::json parse_json(const std::string& text) {
+  return nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+}
+
+// The loop of a loop-bench report named `name`, or null.
+nlohmann::json loop_named(const nlohmann::json& report, const std::string& name) {
+  for (const auto& loop : report["loops"]) {
+    if (loop["name"] == name) return loop;
   }
+  return nullptr;
+}
+
+TEST(CambioCli, LoopBenchJsonHasTheDocumentedKeys) {
+  const auto result =
+      run_cambio("loop-bench --rate-hz 2000 --duration-s 0.2 --json", Capture::kStdout);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto report = parse_json(result.output);
+  ASSERT_FALSE(report.is_discarded()) << "not JSON:\n" << result.output;
+  EXPECT_TRUE(report["warnings"].is_array()) << result.output;
+  ASSERT_EQ(report["loops"].size(), 1u) << result.output;
+  const auto& loop = report["loops"][0];
+  for (const char* key : {"name", "rate_hz", "p50_us", "p99_us", "p999_us", "max_us", "overruns",
+                          "skipped_cycles", "torn_reads", "allocation_exempt"}) {
+    EXPECT_TRUE(loop.contains(key)) << key << " missing from:\n" << result.output;
+  }
+  EXPECT_EQ(loop["rate_hz"], 2000) << result.output;
+  EXPECT_EQ(loop["allocations_per_cycle"], 0) << result.output;
   // 0.2 s at 2 kHz is 400 deadlines: each one either ran or was skipped after an overrun.
-  EXPECT_EQ(json_integer(result.output, "cycles") + json_integer(result.output, "skipped_cycles"),
-            400)
-      << result.output;
+  EXPECT_EQ(loop["cycles"].get<int>() + loop["skipped_cycles"].get<int>(), 400) << result.output;
 }
 
 TEST(CambioCli, LoopBenchRunsTheRigsLoops) {
   const auto result = run_cambio(
       "loop-bench --config firmware_config/rigs/cambio.yaml --set loops.joint.rate_hz=500 "
-      "--duration-s 0.2 --json --no-lock-memory");
+      "--duration-s 0.2 --json --no-lock-memory",
+      Capture::kStdout);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_TRUE(contains(result.output, "\"name\": \"joint\", \"rate_hz\": 500, \"cycles\": "))
-      << result.output;
-  EXPECT_EQ(json_integer(result.output, "cycles") + json_integer(result.output, "skipped_cycles"),
-            100)
-      << result.output;
-  EXPECT_TRUE(contains(result.output, "\"name\": \"camera\"")) << result.output;
+  const auto report = parse_json(result.output);
+  ASSERT_FALSE(report.is_discarded()) << "not JSON:\n" << result.output;
+  const auto joint = loop_named(report, "joint");
+  ASSERT_TRUE(joint.is_object()) << result.output;
+  EXPECT_EQ(joint["rate_hz"], 500) << result.output;
+  EXPECT_EQ(joint["cycles"].get<int>() + joint["skipped_cycles"].get<int>(), 100) << result.output;
+  EXPECT_TRUE(loop_named(report, "camera").is_object()) << result.output;
+}
+
+// A textured 320x240 grey pair, the right image the left shifted 3 px to the left.
+void write_textured_pair(const std::filesystem::path& left, const std::filesystem::path& right) {
+  cv::Mat texture(240, 320, CV_8U);
+  cv::RNG rng(7);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat shifted = texture.clone();
+  texture(cv::Rect(3, 0, 317, 240)).copyTo(shifted(cv::Rect(0, 0, 317, 240)));
+  ASSERT_TRUE(cv::imwrite(left.string(), texture));
+  ASSERT_TRUE(cv::imwrite(right.string(), shifted));
+}
+
+// File names are user text: a quote or a backslash in one must still give valid JSON.
+TEST(CambioCli, PerceiveWritesValidJsonWhateverTheFileNames) {
+  const auto dir = std::filesystem::temp_directory_path() / "cambio_cli_test_perceive \"a\\b\"";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto left = dir / "left \"eye\".png";
+  const auto right = dir / "right\\eye.png";
+  write_textured_pair(left, right);
+  const auto result = run_cambio("perceive --left '" + left.string() + "' --right '" +
+                                 right.string() + "' --out '" + (dir / "out").string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::ifstream file(dir / "out" / "result.json");
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const auto json = parse_json(text);
+  ASSERT_FALSE(json.is_discarded()) << "not JSON:\n" << text;
+  EXPECT_EQ(json["left"], left.string());
+  EXPECT_EQ(json["right"], right.string());
+  EXPECT_EQ(json["image_size_px"], nlohmann::json::array({320, 240}));
+  EXPECT_EQ(json["disparity_valid"].is_boolean() && json["disparity_valid"].get<bool>(),
+            json["disparity_px"].is_number())
+      << text;
+  EXPECT_EQ(json["levels"].size(), json["retina"]["levels"].get<std::size_t>()) << text;
+  EXPECT_FALSE(json["maps"].empty()) << text;
+  EXPECT_TRUE(json["timings_us"].contains("total")) << text;
+}
+
+TEST(CambioCli, PerceptionBenchPrintsTheFiguresAsJson) {
+  const auto result = run_cambio("perception-bench --json --repeats 5", Capture::kStdout);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto figures = parse_json(result.output);
+  ASSERT_FALSE(figures.is_discarded()) << "not JSON:\n" << result.output;
+  EXPECT_EQ(figures["repeats"], 5);
+  EXPECT_EQ(figures["true_disparity_px"], 3.3);
+  for (const char* key : {"ssm_paper_us", "ssm_64_us", "memcpy_us", "opencv_full_filter_us",
+                          "opencv_stereo_bm_us", "ssm_paper_disparity_px"}) {
+    EXPECT_TRUE(figures[key].is_number()) << key << " in " << result.output;
+  }
+  EXPECT_TRUE(figures["ssm_paper_parts_us"].contains("retina")) << result.output;
 }
 
 TEST(CambioCli, RunRefusesAMissingExperiment) {
@@ -108,10 +181,11 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   EXPECT_TRUE(contains(result.output, "camera frames grabbed: 30")) << result.output;
   EXPECT_TRUE(std::filesystem::exists(out_dir / "left_eye.png"));
   EXPECT_TRUE(std::filesystem::exists(out_dir / "right_eye.png"));
-  std::ifstream json(out_dir / "summary.json");
-  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-  EXPECT_TRUE(contains(text, "\"allocations_per_cycle\": 0")) << text;
-  EXPECT_FALSE(contains(text, "\"vergence\"")) << "task=hold runs no vergence loop: " << text;
+  const nlohmann::json summary = read_json(out_dir / "summary.json");
+  EXPECT_FALSE(summary.contains("vergence")) << "task=hold runs no vergence loop";
+  EXPECT_EQ(summary.at("stereo_pairs"), 15);
+  EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
+  EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);
 }
 
 // The main job end to end: the right eye starts 7 deg off and must verge on the textured sphere
@@ -123,9 +197,21 @@ TEST(CambioCli, TheSimDefaultVergesOnTheTexturedSphere) {
                                  out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "): verged")) << result.output;
-  std::ifstream json(out_dir / "summary.json");
-  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-  EXPECT_TRUE(contains(text, "\"vergence\": {")) << text;
+  const nlohmann::json summary = read_json(out_dir / "summary.json");
+  EXPECT_TRUE(summary.contains("vergence"));
+  // The real loops of the main job (joint, vergence control, camera, SSM perception, physics)
+  // make no heap allocation after configure(), and none declared that it must.
+  std::set<std::string> loops;
+  for (const auto& loop : summary.at("loops")) {
+    loops.insert(loop.at("name").get<std::string>());
+    EXPECT_GT(loop.at("cycles").get<long long>(), 0) << loop.dump();
+    EXPECT_EQ(loop.at("allocations").get<long long>(), 0) << loop.dump();
+    EXPECT_FALSE(loop.at("allocation_exempt").get<bool>()) << loop.dump();
+    EXPECT_EQ(loop.at("faults").get<long long>(), 0) << loop.dump();
+  }
+  EXPECT_EQ(loops, (std::set<std::string>{"joint", "control", "camera", "perception", "physics"}));
+  EXPECT_EQ(summary.at("allocation_gate").at("passed"), true);
+  EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
 }
 
 TEST(CambioCli, RunReportsExperimentMistakesWithTheirLine) {

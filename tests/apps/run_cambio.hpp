@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -9,13 +10,20 @@ namespace cambio::testing {
 
 struct CommandResult {
   int exit_code = -1;
-  std::string output;  ///< stdout and stderr together.
+  std::string output;  ///< stdout and stderr together, or stdout alone (Capture::kStdout).
+};
+
+enum class Capture : std::uint8_t {
+  kStdoutAndStderr,
+  kStdout,  ///< For output that is parsed (JSON); stderr goes to the test's own.
 };
 
 /// Runs the built `cambio` program with `arguments` (shell syntax) from the source tree.
-inline CommandResult run_cambio(const std::string& arguments) {
+inline CommandResult run_cambio(const std::string& arguments,
+                                Capture capture = Capture::kStdoutAndStderr) {
   const std::string command = std::string("cd '") + CAMBIO_SOURCE_DIR + "' && '" +
-                              CAMBIO_BINARY_DIR + "/bin/cambio' " + arguments + " 2>&1";
+                              CAMBIO_BINARY_DIR + "/bin/cambio' " + arguments +
+                              (capture == Capture::kStdoutAndStderr ? " 2>&1" : "");
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;

@@ -2,19 +2,25 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include "cambio/runtime/allocation_counter.hpp"
 
 namespace cambio::control {
 namespace {
 
-// A joint group whose joints go exactly where they are told, recording what they were told.
-class PerfectJointGroup final : public hal::JointGroup {
+// A joint group whose enabled joints go exactly where they are told, with CiA 402 drive states
+// it walks one transition per read() (as a drive answers a controlword a cycle later), and
+// hooks to fault, freeze or lose a joint. Records every call in `calls`.
+class FakeJointGroup final : public hal::JointGroup {
  public:
-  PerfectJointGroup() {
-    info_.name = "head";
+  explicit FakeJointGroup(std::string name = "head",
+                          hal::DriveState initial = hal::DriveState::kOperationEnabled) {
+    info_.name = std::move(name);
     info_.backend = "test";
     info_.joints = {"pan", "tilt"};
     hal::JointLimits limits;
@@ -22,34 +28,90 @@ class PerfectJointGroup final : public hal::JointGroup {
     limits.max_position_rad = 0.5;
     limits.max_velocity_rad_s = 2.0;
     info_.limits = {limits, limits};
+    drive.fill(initial);
   }
   const hal::JointGroupInfo& info() const override { return info_; }
   hal::Status read(std::span<hal::JointState> out, std::int64_t& stamp_ns) override {
-    for (std::size_t j = 0; j < out.size(); ++j) out[j].position_rad = position[j];
-    stamp_ns = 0;
-    return hal::Status::kOk;
+    calls.push_back('r');
+    hal::Status status = read_status;
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      if (pending[j]) {
+        const hal::DriveState next = hal::next_drive_state(drive[j], *pending[j]);
+        if (next == drive[j]) {
+          pending[j].reset();
+        } else {
+          drive[j] = next;
+        }
+      }
+      if (!frozen[j]) stamp[j] = now_ns;
+      out[j] = {};
+      out[j].position_rad = position[j];
+      out[j].stamp_ns = stamp[j];
+      out[j].drive_state = drive[j];
+      out[j].error_code = error_code[j];
+      out[j].status_bits = extra_bits[j];
+      if (!hal::is_enabled(drive[j])) out[j].status_bits |= hal::kJointNotEnabled;
+      if (hal::is_faulted(drive[j])) {
+        out[j].status_bits |= hal::kJointFault;
+        status = hal::Status::kFault;
+      }
+    }
+    stamp_ns = now_ns;
+    return status;
   }
   hal::Status write(std::span<const hal::JointCommand> commands) override {
+    calls.push_back('w');
     for (std::size_t j = 0; j < commands.size(); ++j) {
-      if (commands[j].mode == hal::CommandMode::kPosition) position[j] = commands[j].value;
       last[j] = commands[j];
+      if (hal::is_enabled(drive[j]) && commands[j].mode == hal::CommandMode::kPosition) {
+        position[j] = commands[j].value;
+      }
     }
     return hal::Status::kOk;
   }
+  hal::Status request(hal::DriveRequest request, int joint) override {
+    requests.push_back(request);
+    for (std::size_t j = 0; j < drive.size(); ++j) {
+      if (joint == kAllJoints || static_cast<std::size_t>(joint) == j) pending[j] = request;
+    }
+    if (request == hal::DriveRequest::kFaultReset) error_code.fill(0);
+    return hal::Status::kOk;
+  }
+  hal::Status sync() override {
+    calls.push_back('s');
+    return hal::Status::kOk;
+  }
+
+  void fault(std::size_t joint, std::uint16_t code) {
+    drive[joint] = hal::DriveState::kFault;
+    error_code[joint] = code;
+  }
+
+  std::int64_t now_ns = 0;
+  hal::Status read_status = hal::Status::kOk;
   std::array<double, 2> position{0.0, 0.0};
+  std::array<hal::DriveState, 2> drive{};
+  std::array<std::optional<hal::DriveRequest>, 2> pending{};
+  std::array<std::uint16_t, 2> error_code{};
+  std::array<std::uint32_t, 2> extra_bits{};
+  std::array<std::int64_t, 2> stamp{};
+  std::array<bool, 2> frozen{};
   std::array<hal::JointCommand, 2> last{};
+  std::vector<hal::DriveRequest> requests;
+  std::string calls;
 
  private:
   hal::JointGroupInfo info_;
 };
 
-struct Fixture {
-  PerfectJointGroup group;
-  hal::SeqlockChannel<JointTargetFrame> targets;
-  hal::SeqlockChannel<JointStateFrame> states;
-  JointLoop loop{{&group}, targets, states, /*command_timeout_s=*/0.05};
+constexpr JointLoopParams kParams{/*command_timeout_s=*/0.05, /*feedback_timeout_s=*/0.005,
+                                  /*enable_on_activate=*/true};
 
-  Fixture() {
+struct Fixture {
+  explicit Fixture(hal::DriveState initial = hal::DriveState::kOperationEnabled)
+      : group("head", initial) {
+    group.calls.reserve(1 << 16);
+    group.requests.reserve(64);
     loop.configure();
     loop.activate();
   }
@@ -61,10 +123,31 @@ struct Fixture {
     frame.commands[1] = {hal::CommandMode::kPosition, tilt};
     targets.write(frame);
   }
-  void tick(std::uint64_t cycle) {
+  hal::Status step(std::uint64_t cycle) {
     const auto t = static_cast<std::int64_t>(cycle) * 1'000'000;  // 1 kHz
-    ASSERT_EQ(loop.update({cycle, t, t, 1e-3}), hal::Status::kOk);
+    group.now_ns = t;
+    return loop.update({cycle, t, t, 1e-3});
   }
+  void tick(std::uint64_t cycle) { ASSERT_EQ(step(cycle), hal::Status::kOk); }
+  /// Commands (pan, tilt) fresh at every cycle from `first` to `last`, returning the statuses.
+  std::vector<hal::Status> drive(double pan, double tilt, std::uint64_t first, std::uint64_t last) {
+    std::vector<hal::Status> statuses;
+    for (std::uint64_t k = first; k <= last; ++k) {
+      command(pan, tilt, static_cast<std::int64_t>(k) * 1'000'000);
+      statuses.push_back(step(k));
+    }
+    return statuses;
+  }
+  JointStateFrame published() {
+    JointStateFrame frame;
+    EXPECT_TRUE(states.read(frame));
+    return frame;
+  }
+
+  FakeJointGroup group;
+  hal::SeqlockChannel<JointTargetFrame> targets;
+  hal::SeqlockChannel<JointStateFrame> states;
+  JointLoop loop{{&group}, targets, states, kParams};
 };
 
 TEST(JointLoop, ClampsTargetsToPositionLimits) {
@@ -118,21 +201,158 @@ TEST(JointLoop, PublishesWhatTheEncodersSay) {
   f.group.position = {0.25, -0.5};
   f.command(0.25, -0.5, 0);
   f.tick(0);
-  JointStateFrame frame;
-  f.states.read(frame);
+  const JointStateFrame frame = f.published();
   EXPECT_EQ(frame.count, 2);
   EXPECT_DOUBLE_EQ(frame.states[0].position_rad, 0.25);
   EXPECT_DOUBLE_EQ(frame.states[1].position_rad, -0.5);
 }
 
-TEST(JointLoop, UpdateDoesNotAllocate) {
+TEST(JointLoop, UpdateDoesNotAllocateThroughFaultsStaleReadingsAndResets) {
   Fixture f;
   const auto before = runtime::thread_allocation_count();
   for (std::uint64_t k = 0; k < 10'000; ++k) {
+    if (k == 3000) f.group.fault(1, 0x7300);
+    if (k == 4000) f.loop.request(hal::DriveRequest::kFaultReset);
+    if (k == 4010) f.loop.request(hal::DriveRequest::kEnable);
+    f.group.frozen[0] = k >= 6000 && k < 6100;
     f.command(0.1, 0.1, static_cast<std::int64_t>(k) * 1'000'000);
-    f.tick(k);
+    (void)f.step(k);
   }
   EXPECT_EQ(runtime::thread_allocation_count() - before, 0u);
+  EXPECT_GT(f.loop.fault_hold_cycles(), 1000u) << "the faults really happened";
+}
+
+TEST(JointLoop, ActivateEnablesTheDrivesAndDeactivateQuickStopsThem) {
+  Fixture f(hal::DriveState::kSwitchOnDisabled);
+  ASSERT_EQ(f.group.requests.size(), 1u);
+  EXPECT_EQ(f.group.requests[0], hal::DriveRequest::kEnable);
+  f.loop.deactivate();
+  EXPECT_EQ(f.group.requests.back(), hal::DriveRequest::kQuickStop);
+}
+
+TEST(JointLoop, EnablingNeverJumpsToAnOldTarget) {
+  // The drives are disabled at 0.3 rad; the control loop already asks for 0 rad. While they walk
+  // to operation enabled (a transition per cycle) they are sent their measured position; the
+  // first target once enabled is exactly that position; then the ramp moves them at max velocity.
+  Fixture f(hal::DriveState::kSwitchOnDisabled);
+  f.group.position = {0.3, 0.3};
+  std::vector<double> sent;
+  std::vector<hal::DriveState> states;
+  for (std::uint64_t k = 0; k < 10; ++k) {
+    f.command(0.0, 0.0, static_cast<std::int64_t>(k) * 1'000'000);
+    (void)f.step(k);
+    sent.push_back(f.group.last[0].value);
+    states.push_back(f.group.drive[0]);
+  }
+  const auto enabled_at = static_cast<std::size_t>(
+      std::find(states.begin(), states.end(), hal::DriveState::kOperationEnabled) - states.begin());
+  ASSERT_EQ(enabled_at, 2u) << "disabled -> ready -> switched on -> enabled, one step per read";
+  for (std::size_t k = 0; k <= enabled_at; ++k) EXPECT_DOUBLE_EQ(sent[k], 0.3) << "cycle " << k;
+  EXPECT_NEAR(sent[enabled_at + 1], 0.298, 1e-12) << "then a ramp, 2 mrad per cycle";
+  EXPECT_NEAR(f.group.position[0], 0.3 - 0.002 * 7, 1e-12);
+}
+
+TEST(JointLoop, AFaultLatchesHoldsEveryJointUntilResetThenReenablesAtTheMeasuredPosition) {
+  Fixture f;
+  f.drive(0.2, 0.1, 0, 19);  // Moving: 2 mrad per cycle.
+  const std::array<double, 2> at_fault = f.group.position;
+  f.group.fault(1, 0x7300);
+
+  // Targets keep changing; nothing moves and the loop reports the fault.
+  const auto statuses = f.drive(-0.5, -0.5, 20, 119);
+  for (const auto status : statuses) ASSERT_EQ(status, hal::Status::kFault);
+  EXPECT_EQ(f.group.position, at_fault) << "no joint moved after the fault";
+  JointStateFrame frame = f.published();
+  EXPECT_TRUE(frame.fault_latched);
+  EXPECT_TRUE(frame.holding);
+  EXPECT_NE(frame.states[1].status_bits & hal::kJointFault, 0u);
+  EXPECT_EQ(frame.states[1].error_code, 0x7300);
+  EXPECT_EQ(frame.states[1].drive_state, hal::DriveState::kFault);
+
+  // The drive comes out of its fault by itself (power cycled): still latched, still holding.
+  f.group.drive[1] = hal::DriveState::kSwitchOnDisabled;
+  f.group.error_code[1] = 0;
+  for (const auto status : f.drive(-0.5, -0.5, 120, 149)) ASSERT_EQ(status, hal::Status::kFault);
+  EXPECT_EQ(f.group.position, at_fault);
+  EXPECT_NE(f.published().states[1].status_bits & hal::kJointFault, 0u) << "latched";
+
+  // Reset, then enable: the latch clears; joint 1 comes back at its measured position, then
+  // every joint ramps towards the new targets.
+  f.loop.request(hal::DriveRequest::kFaultReset);
+  f.loop.request(hal::DriveRequest::kEnable);
+  f.command(-0.5, -0.5, 150'000'000);
+  EXPECT_EQ(f.step(150), hal::Status::kOk);
+  EXPECT_FALSE(f.published().fault_latched);
+  std::vector<double> tilt_sent;
+  for (std::uint64_t k = 151; k < 160; ++k) {
+    f.command(-0.5, -0.5, static_cast<std::int64_t>(k) * 1'000'000);
+    (void)f.step(k);
+    tilt_sent.push_back(f.group.last[1].value);
+  }
+  const auto first_enabled = static_cast<std::size_t>(
+      std::find_if(tilt_sent.begin(), tilt_sent.end(), [&](double v) { return v != at_fault[1]; }) -
+      tilt_sent.begin());
+  ASSERT_LT(first_enabled, tilt_sent.size());
+  EXPECT_NEAR(tilt_sent[first_enabled], at_fault[1] - 0.002, 1e-12)
+      << "first target after enable is the measured position, then one ramp step";
+  EXPECT_LT(f.group.position[0], at_fault[0]) << "motion resumed";
+}
+
+TEST(JointLoop, StaleFeedbackHoldsWithoutLatching) {
+  Fixture f;
+  f.drive(0.2, 0.2, 0, 9);
+  const double before = f.group.position[0];
+  f.group.frozen[1] = true;  // Joint 1's feedback stops arriving at t = 9 ms.
+  const auto statuses = f.drive(0.4, 0.4, 10, 30);
+  // Fresh for 5 ms (cycles 10..14), then stale: held.
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(statuses[i], hal::Status::kOk) << i;
+  for (std::size_t i = 5; i < statuses.size(); ++i) EXPECT_EQ(statuses[i], hal::Status::kStale);
+  EXPECT_NEAR(f.group.position[0], before + 0.002 * 5, 1e-12);
+  const JointStateFrame frame = f.published();
+  EXPECT_NE(frame.states[1].status_bits & hal::kJointStale, 0u);
+  EXPECT_TRUE(frame.holding);
+  EXPECT_FALSE(frame.fault_latched);
+  f.group.frozen[1] = false;  // Fresh again: motion resumes without a reset.
+  f.drive(0.4, 0.4, 31, 31);
+  EXPECT_NEAR(f.group.position[0], before + 0.002 * 6, 1e-12);
+  EXPECT_EQ(f.loop.feedback_stale_cycles(), 16u);
+}
+
+TEST(JointLoop, LostCommunicationLatchesLikeAFault) {
+  Fixture f;
+  f.drive(0.2, 0.2, 0, 9);
+  f.group.extra_bits[0] = hal::kJointCommLost;
+  f.drive(0.4, 0.4, 10, 10);
+  f.group.extra_bits[0] = 0;  // The heartbeat comes back: the loop still holds.
+  const double held = f.group.position[0];
+  for (const auto status : f.drive(0.4, 0.4, 11, 40)) EXPECT_EQ(status, hal::Status::kFault);
+  EXPECT_EQ(f.group.position[0], held);
+  EXPECT_NE(f.published().states[0].status_bits & hal::kJointCommLost, 0u);
+  f.loop.request(hal::DriveRequest::kFaultReset);
+  f.drive(0.4, 0.4, 41, 42);
+  EXPECT_GT(f.group.position[0], held);
+}
+
+TEST(JointLoop, ReportsTheMostSevereStatusOfItsGroupsNotTheLastOne) {
+  FakeJointGroup faulty("faulty");
+  FakeJointGroup healthy("healthy");
+  faulty.read_status = hal::Status::kRejected;
+  hal::SeqlockChannel<JointTargetFrame> targets;
+  hal::SeqlockChannel<JointStateFrame> states;
+  JointLoop loop({&faulty, &healthy}, targets, states, kParams);
+  loop.configure();
+  loop.activate();
+  EXPECT_EQ(loop.update({0, 0, 0, 1e-3}), hal::Status::kRejected);
+  faulty.read_status = hal::Status::kOk;
+  healthy.read_status = hal::Status::kStale;
+  EXPECT_EQ(loop.update({1, 1'000'000, 1'000'000, 1e-3}), hal::Status::kStale);
+}
+
+TEST(JointLoop, EachCycleReadsThenWritesThenSyncs) {
+  Fixture f;
+  f.group.calls.clear();
+  f.drive(0.1, 0.1, 0, 2);
+  EXPECT_EQ(f.group.calls, "rwsrwsrws");
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "cambio/config/shipped_config.hpp"
+
 namespace {
 
 struct CommandRun {
@@ -32,7 +34,7 @@ CommandRun run_cambio(const std::string& arguments) {
 }
 
 std::string shipped(const std::string& name) {
-  return std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name;
+  return cambio::config::find_shipped_config("rigs/" + name);
 }
 
 TEST(CheckConfigCli, ShippedRigsPassWithASummary) {

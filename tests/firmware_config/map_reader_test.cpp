@@ -27,6 +27,18 @@ TEST(EditDistance, CountsInsertionsDeletionsAndSubstitutions) {
   EXPECT_EQ(edit_distance("max_velocty_rad_s", "max_velocity_rad_s"), 1u);
 }
 
+TEST(ClosestName, SuggestsOnlyAPlausibleTypo) {
+  const std::vector<std::string> names = {"joint", "control", "perception", "camera"};
+  EXPECT_EQ(closest_name("contrl", names), "control");
+  EXPECT_EQ(closest_name("percepton", names), "perception");
+  // Two edits at most for short words (a quarter of the length for long ones).
+  EXPECT_EQ(closest_name("xyz", names), std::nullopt);
+  EXPECT_EQ(closest_name("jnt", names), "joint");
+  EXPECT_EQ(closest_name("j", names), std::nullopt);
+  EXPECT_EQ(closest_name("j", names, 4), "joint");
+  EXPECT_EQ(closest_name("camera", {}), std::nullopt);
+}
+
 TEST(Range, DescribesItsBounds) {
   EXPECT_EQ(Range::positive().describe(), "> 0");
   EXPECT_EQ(Range::non_negative().describe(), ">= 0");

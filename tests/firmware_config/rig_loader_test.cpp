@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 
 #include "rig_test_support.hpp"
@@ -17,8 +16,6 @@ using test::describe;
 using test::issues_of;
 using test::small_rig;
 using test::small_rig_with;
-
-constexpr double kPi = std::numbers::pi;
 
 /// Asserts `issues` holds exactly one issue, at `line`:`column` with `key_path`, whose message
 /// contains `text`.
@@ -47,8 +44,8 @@ TEST(ShippedRigs, CambioLoadsWithItsStatedValues) {
   // _deg keys arrive in radians: -90 deg is -pi/2, 140 deg is 7 pi / 9.
   const JointConfig* neck_pan = rig.find_joint("neck_pan");
   ASSERT_NE(neck_pan, nullptr);
-  EXPECT_DOUBLE_EQ(neck_pan->min_position_rad, -kPi / 2);
-  EXPECT_DOUBLE_EQ(neck_pan->max_position_rad, kPi / 2);
+  EXPECT_DOUBLE_EQ(neck_pan->min_position_rad, -std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(neck_pan->max_position_rad, std::numbers::pi / 2);
   EXPECT_EQ(neck_pan->max_velocity_rad_s, 2.0);
   EXPECT_EQ(neck_pan->parent, "base");
   EXPECT_EQ(neck_pan->origin.xyz_m, (std::array<double, 3>{0.0, 0.0, 1.2}));
@@ -58,8 +55,8 @@ TEST(ShippedRigs, CambioLoadsWithItsStatedValues) {
   ASSERT_TRUE(neck_pan->can.has_value());
   EXPECT_EQ(neck_pan->can->node_id, 1);
   EXPECT_EQ(neck_pan->can->gear_ratio, 100.0);
-  EXPECT_DOUBLE_EQ(rig.find_joint("left_elbow")->max_position_rad, 7 * kPi / 9);
-  EXPECT_DOUBLE_EQ(rig.find_joint("neck_tilt")->max_position_rad, kPi / 4);
+  EXPECT_DOUBLE_EQ(rig.find_joint("left_elbow")->max_position_rad, 7 * std::numbers::pi / 9);
+  EXPECT_DOUBLE_EQ(rig.find_joint("neck_tilt")->max_position_rad, std::numbers::pi / 4);
 
   const CameraConfig* left = rig.find_camera("left_eye");
   ASSERT_NE(left, nullptr);
@@ -69,8 +66,8 @@ TEST(ShippedRigs, CambioLoadsWithItsStatedValues) {
   EXPECT_EQ(left->focal_y_px, 554.256);
   EXPECT_EQ(left->principal_x_px, 319.5);
   EXPECT_EQ(left->format, PixelFormatConfig::kRgb8);
-  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[0], -kPi / 2);
-  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[2], -kPi / 2);
+  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[0], -std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(left->mount.rpy_rad[2], -std::numbers::pi / 2);
 
   ASSERT_TRUE(rig.stereo.has_value());
   EXPECT_EQ(rig.stereo->baseline_m, 0.12);
@@ -87,8 +84,8 @@ TEST(ShippedRigs, PanTiltLoadsAndTakesTheDefaultLoops) {
   const RigConfig rig = load_rig(test::shipped_rig_path("pan_tilt.yaml"));
   EXPECT_EQ(rig.name, "pan_tilt");
   ASSERT_EQ(rig.joints.size(), 2u);
-  EXPECT_DOUBLE_EQ(rig.find_joint("pan")->min_position_rad, -17 * kPi / 18);
-  EXPECT_DOUBLE_EQ(rig.find_joint("tilt")->max_position_rad, kPi / 3);
+  EXPECT_DOUBLE_EQ(rig.find_joint("pan")->min_position_rad, -17 * std::numbers::pi / 18);
+  EXPECT_DOUBLE_EQ(rig.find_joint("tilt")->max_position_rad, std::numbers::pi / 3);
   EXPECT_EQ(rig.cameras.size(), 1u);
   EXPECT_FALSE(rig.stereo.has_value());
   ASSERT_EQ(rig.loops.size(), 4u);
@@ -103,26 +100,6 @@ TEST(ShippedRigs, PanTiltLoadsAndTakesTheDefaultLoops) {
     EXPECT_EQ(loop->overrun, OverrunPolicy::kSkip);
   }
   EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
-}
-
-TEST(ShippedRigs, ShippedConfigDirHoldsThem) {
-  EXPECT_NO_THROW(load_rig(shipped_config_dir() + "/rigs/cambio.yaml"));
-}
-
-TEST(ShippedRigs, ConfigDirEnvironmentVariableWins) {
-  const char* previous = std::getenv("CAMBIO_CONFIG_DIR");
-  const std::string saved = previous ? previous : "";
-  ::setenv("CAMBIO_CONFIG_DIR", "/somewhere/else", 1);
-  EXPECT_EQ(shipped_config_dir(), "/somewhere/else");
-  if (previous) {
-    ::setenv("CAMBIO_CONFIG_DIR", saved.c_str(), 1);
-  } else {
-    ::unsetenv("CAMBIO_CONFIG_DIR");
-  }
-  // From the build tree the source tree's directory serves.
-  if (previous == nullptr) {
-    EXPECT_EQ(shipped_config_dir(), std::string(CAMBIO_SOURCE_DIR) + "/firmware_config");
-  }
 }
 
 TEST(SmallRig, LoadsClean) {

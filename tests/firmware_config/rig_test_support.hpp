@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cambio/config/rig_loader.hpp"
+#include "cambio/config/shipped_config.hpp"
 
 namespace cambio::config::test {
 
@@ -80,7 +81,7 @@ inline std::string small_rig_with(int line, const std::string& replacement) {
 }
 
 inline std::string shipped_rig_path(const std::string& name) {
-  return std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name;
+  return find_shipped_config("rigs/" + name);
 }
 
 inline std::string read_text(const std::string& path) {

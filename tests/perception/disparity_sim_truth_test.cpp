@@ -7,12 +7,15 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "../sim/sim_test_support.hpp"
+#include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/perception/sensory_servo.hpp"
 #include "cambio/sim/sim_backend.hpp"
@@ -39,12 +42,12 @@ StereoShot shoot(double left_pan_rad, double right_pan_rad, double image_noise_s
   for (auto& camera : rig.cameras) camera.image_noise_std = image_noise_std;
   sim::testing::set_initial(rig, "left_eye_pan", left_pan_rad);
   sim::testing::set_initial(rig, "right_eye_pan", right_pan_rad);
-  hal::BackendOptions options;
-  options.seed = 11;
-  sim::SimBackend backend(rig, sim::testing::load_shipped_scene("vergence"), options);
-  backend.physics().activate();
-  auto left = backend.make_camera("left_eye");
-  auto right = backend.make_camera("right_eye");
+  hal::ManualClock clock;
+  auto backend =
+      sim::testing::make_sim(rig, sim::testing::load_shipped_scene("vergence"), clock, 11);
+  backend->activate();
+  auto left = backend->make_camera("left_eye");
+  auto right = backend->make_camera("right_eye");
   StereoShot shot;
   shot.left_k = left->info().intrinsics;
   shot.right_k = right->info().intrinsics;
@@ -53,7 +56,7 @@ StereoShot shoot(double left_pan_rad, double right_pan_rad, double image_noise_s
   EXPECT_EQ(left->grab(shot.left), hal::Status::kOk);
   EXPECT_EQ(right->grab(shot.right), hal::Status::kOk);
   hal::Image rgb;
-  auto& truth = backend.ground_truth();
+  auto& truth = backend->ground_truth();
   truth.render("left_eye", 0, 0, sim::ViewOptions{}, rgb, &shot.left_depth_m);
   shot.X_WL = truth.X_WC("left_eye");
   shot.X_WR = truth.X_WC("right_eye");
@@ -126,8 +129,8 @@ void report(const char* what, double noise, PixelPoint fl, const Measurement& m)
   }
 }
 
-constexpr double kLeftPanRad = 4.764 * 3.14159265358979 / 180.0;  // Onto the sphere.
-constexpr double kVergedRightPanRad = 11.6 * 3.14159265358979 / 180.0;
+constexpr double kLeftPanRad = 4.764 * std::numbers::pi / 180.0;  // Onto the sphere.
+constexpr double kVergedRightPanRad = 11.6 * std::numbers::pi / 180.0;
 // Tolerances, from the measured figures (printed by each case). Rows aligned to within 0.25 px:
 // errors up to 0.19 px without noise and 0.2 px with noise 3 (the renderer point-samples the
 // texture without anti-aliasing, and the sphere is slanted and curved under the 9 x 9 window),
@@ -185,8 +188,8 @@ INSTANTIATE_TEST_SUITE_P(EyesAndNoise, SimTruth,
 TEST(SimTruthCoarseToFine, ParallelStartOfTheMainJobIsMeasuredInTheFovea) {
   // Both eyes panned 4.764 deg (the main job's start), fixations at the image centres: the
   // vergence error is the full ~68 px; the experiment's SSM config must find it.
-  const SsmConfig config = load_ssm_config(
-      std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/perception/vergence.yaml", {});
+  const SsmConfig config =
+      load_ssm_config(config::find_shipped_config("perception/vergence.yaml"), {});
   for (const double noise : {0.0, 3.0}) {
     const StereoShot shot = shoot(kLeftPanRad, kLeftPanRad, noise);
     const PixelPoint centre{shot.left.width_px / 2, shot.left.height_px / 2};

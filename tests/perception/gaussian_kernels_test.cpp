@@ -5,22 +5,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace cambio::perception {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Eq. 1.
 double gaussian(double sigma, double x) {
-  return std::exp(-x * x / (2 * sigma * sigma)) / (std::sqrt(2 * kPi) * sigma);
+  return std::exp(-x * x / (2 * sigma * sigma)) / (std::sqrt(2 * std::numbers::pi) * sigma);
 }
 
 TEST(GaussianKernels, SeparableFactorsReproduceEquations3To5OnTheWholeSquare) {
   for (const double sigma : {1.4, 1.7, 2.7, 4.0}) {
     const int s = gaussian_half_width(sigma, 3.0);
     const double a = -1 / (2 * sigma * sigma);
-    const double lambda = 1 / (sigma * std::sqrt(2 * kPi));
+    const double lambda = 1 / (sigma * std::sqrt(2 * std::numbers::pi));
     for (int order = 0; order <= 2; ++order) {
       for (const Axis axis : {Axis::kX, Axis::kY}) {
         const SeparableKernel k = gaussian_derivative_kernel(order, axis, sigma, s);

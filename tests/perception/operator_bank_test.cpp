@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 
 #include "cambio/perception/feature_maps.hpp"
@@ -12,8 +13,6 @@
 
 namespace cambio::perception {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 cv::Mat level_with_apron(const RetinaLevelView& level) {
   const int side_w = level.width + 2 * level.apron;
@@ -30,7 +29,7 @@ cv::Mat level_with_apron(const RetinaLevelView& level) {
 // because Eq. 2 is a convolution and filter2D correlates.
 cv::Mat paper_mask(int order, bool along_x, double sigma, int s) {
   const double a = -1 / (2 * sigma * sigma);
-  const double lambda = 1 / (sigma * std::sqrt(2 * kPi));
+  const double lambda = 1 / (sigma * std::sqrt(2 * std::numbers::pi));
   cv::Mat mask = cv::Mat::zeros(2 * s + 1, 2 * s + 1, CV_64F);
   for (int y = -s; y <= s; ++y) {
     for (int x = -s; x <= s; ++x) {
@@ -168,7 +167,7 @@ TEST(OperatorBank, FlatImagesGiveConstantMapsAndRampsGiveTheirSlope) {
   FeatureMaps maps(4, bank.map_count(), 16, 16);
   bank.apply(retina.level(0), kAllMaps, maps.level(0));
   const double sigma = 2.7;
-  const double lambda = 1 / (sigma * std::sqrt(2 * kPi));
+  const double lambda = 1 / (sigma * std::sqrt(2 * std::numbers::pi));
   const float g1x = maps.map(0, bank.find("g1x@2.7"))[8 * 16 + 8];
   EXPECT_NEAR(lambda * g1x, 3.0, 3.0 * 0.01);
   EXPECT_NEAR(maps.map(0, bank.find("sobel_x"))[8 * 16 + 8], 8 * 3.0, 1e-3);

@@ -24,7 +24,8 @@ std::string all_messages(const config::ConfigError& error) {
 }
 
 TEST(PerceptionConfig, ShippedFileIsTheDefaults) {
-  const std::string path = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/perception/ssm.yaml";
+  const std::string path = default_ssm_config_path();
+  ASSERT_FALSE(path.empty());
   const SsmConfig loaded = load_ssm_config(path, {});
   const SsmConfig defaults;
   EXPECT_EQ(loaded.retina.levels, defaults.retina.levels);

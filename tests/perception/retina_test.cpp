@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "cambio/hal/luma.hpp"
 #include "synthetic_images.hpp"
 
 namespace cambio::perception {
@@ -18,7 +19,7 @@ double block_mean(const hal::Image& image, int x0, int y0, int b) {
       const int cx = std::clamp(x, 0, image.width_px - 1);
       const int cy = std::clamp(y, 0, image.height_px - 1);
       const std::uint8_t* p = image.row(cy) + cx * image.channels();
-      sum += image.channels() == 1 ? p[0] : ((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8);
+      sum += image.channels() == 1 ? p[0] : hal::luma_bt601(p[0], p[1], p[2]);
     }
   }
   return sum / (b * b);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "sim_test_support.hpp"
 
@@ -48,8 +49,10 @@ TEST_P(ProjectionTest, MarkerAppearsWherePinholePredictsInEachEye) {
   testing::set_initial(rig, "right_eye_pan", pose.right_pan);
   // A point off both optical axes, about 1 m away.
   const Eigen::Vector3d p_W(1.05, 0.09, 1.33);
-  SimBackend backend(rig, marker_scene(p_W, 0.012), hal::BackendOptions{});
-  backend.physics().activate();
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, marker_scene(p_W, 0.012), clock);
+  auto& backend = *sim;
+  backend.activate();
   for (const char* name : {"left_eye", "right_eye"}) {
     auto camera = backend.make_camera(name);
     const auto& k = camera->info().intrinsics;
@@ -73,9 +76,8 @@ TEST(DepthTest, MetricDepthOfAWallOneMetreAheadIsWithinOneMillimetre) {
   // Where the left eye is with every joint at zero, from a first world.
   Eigen::Isometry3d X_WC;
   {
-    SimBackend probe(rig, config::load_scene_from_string("world: {floor: false}\n", "empty.yaml"),
-                     hal::BackendOptions{});
-    X_WC = probe.ground_truth().X_WC("left_eye");
+    hal::ManualClock clock;
+    X_WC = testing::make_sim(rig, testing::empty_scene(), clock)->ground_truth().X_WC("left_eye");
   }
   // A wall whose front face is exactly 1 m ahead of the eye, square to its optical axis (+x).
   const double face_x = X_WC.translation().x() + 1.0;
@@ -85,10 +87,11 @@ TEST(DepthTest, MetricDepthOfAWallOneMetreAheadIsWithinOneMillimetre) {
       "world: {floor: false}\nobjects:\n  - {name: wall, shape: box, size_m: [0.1, 4, 4], "
       "xyz_m: [%.9f, 0, 1.4], rgb: [0.6, 0.6, 0.6]}\n",
       face_x + 0.05);
-  SimBackend backend(rig, config::load_scene_from_string(yaml, "wall.yaml"), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto backend = testing::make_sim(rig, config::load_scene_from_string(yaml, "wall.yaml"), clock);
   hal::Image rgb;
   std::vector<float> depth_m;
-  backend.ground_truth().render("left_eye", 0, 0, ViewOptions{}, rgb, &depth_m);
+  backend->ground_truth().render("left_eye", 0, 0, ViewOptions{}, rgb, &depth_m);
   const int w = rgb.width_px, h = rgb.height_px;
   for (const auto& [x, y] : {std::pair{w / 2, h / 2}, std::pair{10, 10}, std::pair{w - 11, h - 11},
                              std::pair{w / 4, 3 * h / 4}}) {
@@ -102,10 +105,10 @@ TEST(StereoTest, EyesDifferByTheExpectedDisparityForAKnownDepth) {
   testing::make_ideal(rig);
   Eigen::Isometry3d X_WL, X_WR;
   {
-    SimBackend probe(rig, config::load_scene_from_string("world: {floor: false}\n", "empty.yaml"),
-                     hal::BackendOptions{});
-    X_WL = probe.ground_truth().X_WC("left_eye");
-    X_WR = probe.ground_truth().X_WC("right_eye");
+    hal::ManualClock clock;
+    auto probe = testing::make_sim(rig, testing::empty_scene(), clock);
+    X_WL = probe->ground_truth().X_WC("left_eye");
+    X_WR = probe->ground_truth().X_WC("right_eye");
   }
   const double baseline_m = (X_WL.translation() - X_WR.translation()).norm();
   ASSERT_NEAR(baseline_m, rig.stereo->baseline_m, 1e-9);
@@ -113,10 +116,11 @@ TEST(StereoTest, EyesDifferByTheExpectedDisparityForAKnownDepth) {
     // Straight ahead of the midpoint between the eyes, both eyes parallel.
     const Eigen::Vector3d mid = 0.5 * (X_WL.translation() + X_WR.translation());
     const Eigen::Vector3d p_W = mid + Eigen::Vector3d(depth_m, 0.0, 0.0);
-    SimBackend backend(rig, marker_scene(p_W, 0.01 * depth_m), hal::BackendOptions{});
-    backend.physics().activate();
-    auto left = backend.make_camera("left_eye");
-    auto right = backend.make_camera("right_eye");
+    hal::ManualClock clock;
+    auto backend = testing::make_sim(rig, marker_scene(p_W, 0.01 * depth_m), clock);
+    backend->activate();
+    auto left = backend->make_camera("left_eye");
+    auto right = backend->make_camera("right_eye");
     const auto& k = left->info().intrinsics;
     hal::Image left_image(k.width_px, k.height_px, hal::PixelFormat::kRgb8);
     hal::Image right_image(k.width_px, k.height_px, hal::PixelFormat::kRgb8);
@@ -133,13 +137,16 @@ TEST(StereoTest, EyesDifferByTheExpectedDisparityForAKnownDepth) {
 TEST(CameraTest, GreyAndRgbFramesAreStampedWithSimTimeAndReportNoNewData) {
   auto rig = testing::load_shipped_rig();
   for (auto& camera : rig.cameras) camera.format = config::PixelFormatConfig::kGrey8;
-  SimBackend backend(rig, testing::load_shipped_scene("vergence"), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock);
+  auto& backend = *sim;
   auto left = backend.make_camera("left_eye");
   ASSERT_EQ(left->info().format, hal::PixelFormat::kGrey8);
   hal::Image wrong(10, 10, hal::PixelFormat::kGrey8);
   EXPECT_EQ(left->grab(wrong), hal::Status::kRejected);
   hal::Image image(640, 480, hal::PixelFormat::kGrey8);
-  backend.physics().activate();
+  EXPECT_EQ(left->grab(image), hal::Status::kNoNewData) << "nothing published before activate()";
+  backend.activate();
   ASSERT_EQ(backend.physics().step_once(5'000'000), hal::Status::kOk);
   ASSERT_EQ(left->grab(image), hal::Status::kOk);
   EXPECT_EQ(image.stamp_ns, 5'000'000);

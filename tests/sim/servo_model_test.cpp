@@ -2,6 +2,7 @@
 #include "cambio/sim/servo_model.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -128,7 +129,7 @@ TEST(ServoModelTest, EncoderQuantisesToItsResolution) {
   ServoParams p = params(0.0);
   p.encoder_counts_per_rev = 4096;
   ServoModel servo(p, 1, 0.0);
-  const double count = 2.0 * M_PI / 4096.0;
+  const double count = 2 * std::numbers::pi / 4096.0;
   servo.observe(0.3);
   EXPECT_NEAR(std::remainder(servo.encoder_position_rad(), count), 0.0, 1e-12);
   EXPECT_NEAR(servo.encoder_position_rad(), 0.3, count / 2 + 1e-12);
@@ -147,6 +148,60 @@ TEST(ServoModelTest, BacklashLagsTheOutputOnReversal) {
   (void)servo.command({hal::CommandMode::kPosition, 0.2});
   for (int k = 0; k < 2'000; ++k) servo.step();
   EXPECT_NEAR(servo.state().motor_position_rad - servo.output_position_rad(), -0.01, 1e-5);
+}
+
+TEST(ServoModelTest, BrakeToStopRampsDownAtTheAccelerationLimitDropsQueuedTargetsAndHolds) {
+  ServoParams p = params(1e-3);
+  p.dead_time_s = 0.005;
+  p.dead_time_steps = 5;
+  ServoModel servo(p, 1, -1.0);
+  (void)servo.command({hal::CommandMode::kPosition, 1.0});
+  for (int k = 0; k < 300; ++k) servo.step();
+  ASSERT_NEAR(servo.state().profile_velocity_rad_s, 2.0, 1e-9) << "cruising";
+  (void)servo.command({hal::CommandMode::kPosition, 0.9});  // Queued behind the dead time.
+  servo.brake_to_stop();
+  double previous_v = servo.state().profile_velocity_rad_s;
+  int steps_to_stop = 0;
+  while (!servo.at_rest() && steps_to_stop < 1'000) {
+    servo.step();
+    const double v = servo.state().profile_velocity_rad_s;
+    ASSERT_LE(std::abs(v - previous_v), p.max_acceleration_rad_s2 * p.step_s + 1e-9);
+    ASSERT_GE(v, 0.0) << "brakes, never reverses";
+    previous_v = v;
+    ++steps_to_stop;
+  }
+  // 2 rad/s at 20 rad/s^2 stops in 0.1 s: 100 steps, from the first one (no dead time).
+  EXPECT_EQ(steps_to_stop, 100);
+  const double rest = servo.output_position_rad();
+  for (int k = 0; k < 1'000; ++k) {
+    servo.step();
+    ASSERT_EQ(servo.output_position_rad(), rest) << "the queued target was dropped";
+  }
+}
+
+TEST(ServoModelTest, HoldAtTakesTheMeasuredPositionAndForgetsOldTargets) {
+  ServoParams p = params(1e-3);
+  p.backlash_rad = 0.01;
+  p.dead_time_s = 0.005;
+  p.dead_time_steps = 5;
+  ServoModel servo(p, 1, 0.0);
+  (void)servo.command({hal::CommandMode::kPosition, 0.8});
+  servo.step();
+  servo.hold_at(0.25);
+  for (int k = 0; k < 500; ++k) {
+    servo.step();
+    ASSERT_EQ(servo.output_position_rad(), 0.25) << "step " << k;
+  }
+  EXPECT_TRUE(servo.at_rest());
+  // New targets are followed again, after the dead time.
+  (void)servo.command({hal::CommandMode::kPosition, 0.5});
+  for (int k = 0; k < 6; ++k) servo.step();
+  EXPECT_EQ(servo.output_position_rad(), 0.25) << "inside the backlash band after the delay";
+  for (int k = 0; k < 1'000; ++k) servo.step();
+  EXPECT_NEAR(servo.output_position_rad(), 0.5 - 0.005, 5e-3);
+  // Out of range: clamped to the limits.
+  servo.hold_at(3.0);
+  EXPECT_EQ(servo.output_position_rad(), p.max_position_rad);
 }
 
 TEST(ServoModelTest, SameSeedSameNoiseDifferentSeedDifferentNoise) {

@@ -1,15 +1,20 @@
 // The sim behind the HAL under the lockstep executor: determinism, limits, touch, ground truth.
 #include "cambio/sim/sim_backend.hpp"
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "cambio/runtime/lockstep_executor.hpp"
+#include "cambio/hal/manual_clock.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "lockstep_sim.hpp"
 #include "sim_test_support.hpp"
 
 namespace cambio::sim {
@@ -21,7 +26,8 @@ std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
   return hash;
 }
 
-/// Commands every joint of its groups along sines and records what the encoders report.
+/// Enables its groups' drives, then commands every joint along sines and records what the
+/// encoders report.
 class ExerciseLoop final : public hal::Loop {
  public:
   ExerciseLoop(std::vector<std::unique_ptr<hal::JointGroup>> groups, std::size_t cycles)
@@ -36,6 +42,9 @@ class ExerciseLoop final : public hal::Loop {
   hal::Status update(const hal::LoopTick& tick) noexcept override {
     const double t = static_cast<double>(tick.deadline_ns) * 1e-9;
     for (std::size_t g = 0; g < groups_.size(); ++g) {
+      if (tick.cycle == 0 && groups_[g]->request(hal::DriveRequest::kEnable) != hal::Status::kOk) {
+        return hal::Status::kFault;
+      }
       std::int64_t stamp = 0;
       if (groups_[g]->read(states_[g], stamp) != hal::Status::kOk) return hal::Status::kFault;
       for (const auto& state : states_[g]) {
@@ -46,7 +55,7 @@ class ExerciseLoop final : public hal::Loop {
         const auto& limits = info.limits[k];
         const double middle = 0.5 * (limits.min_position_rad + limits.max_position_rad);
         const double half = 0.25 * (limits.max_position_rad - limits.min_position_rad);
-        commands_[g][k] = {hal::CommandMode::kPosition, middle + half * std::sin(3.0 * t + k)};
+        commands_[g][k].value = middle + half * std::sin(3.0 * t + static_cast<double>(k));
       }
       if (groups_[g]->write(commands_[g]) != hal::Status::kOk) return hal::Status::kFault;
     }
@@ -105,29 +114,22 @@ RunResult run_lockstep(std::uint64_t seed, double image_noise_std, double second
   auto rig = testing::load_shipped_rig();
   testing::use_small_cameras(rig);
   for (auto& camera : rig.cameras) camera.image_noise_std = image_noise_std;
-  hal::BackendOptions options;
-  options.seed = seed;
-  SimBackend backend(rig, testing::load_shipped_scene("distractors"), options);
+  testing::LockstepSim sim(rig, testing::load_shipped_scene("distractors"), seed);
   const auto cycles = static_cast<std::size_t>(seconds * 1000) + 1;
   std::vector<std::unique_ptr<hal::JointGroup>> groups;
-  groups.push_back(backend.make_joint_group("head"));
-  groups.push_back(backend.make_joint_group("left_arm"));
+  groups.push_back(sim.backend->make_joint_group("head"));
+  groups.push_back(sim.backend->make_joint_group("left_arm"));
   ExerciseLoop joint_loop(std::move(groups), cycles);
-  StereoLoop camera_loop(backend.make_camera("left_eye"), backend.make_camera("right_eye"),
+  StereoLoop camera_loop(sim.backend->make_camera("left_eye"),
+                         sim.backend->make_camera("right_eye"),
                          static_cast<std::size_t>(seconds * 30) + 2);
-  auto physics = backend.loops().front();
-  std::vector<runtime::ScheduledLoop> loops = {
-      {physics.loop, config::LoopConfig{"physics", physics.rate_hz, physics.priority, -1, {}}},
-      {&joint_loop, config::LoopConfig{"joint", 1000.0, 0, -1, {}}},
-      {&camera_loop, config::LoopConfig{"camera", 30.0, 0, -1, {}}},
-  };
-  hal::ManualClock* clock = backend.manual_clock();
-  runtime::LockstepExecutor executor(*clock, loops);
-  executor.configure();
-  executor.run_until_ns(clock->now_ns() + static_cast<std::int64_t>(seconds * 1e9));
-  executor.deactivate();
+  sim.add_loop(joint_loop, 1000.0);
+  sim.add_loop(camera_loop, 30.0);
+  sim.start();
+  sim.run_for_s(seconds);
+  sim.stop();
   RunResult result{joint_loop.trajectory(), camera_loop.hashes()};
-  for (const auto& stats : executor.statistics()) {
+  for (const auto& stats : sim.executor.statistics()) {
     if (stats.name == "physics") result.physics_allocations = stats.allocations;
     if (stats.name == "camera") result.camera_allocations = stats.allocations;
     result.failed_updates += stats.failed_updates;
@@ -153,23 +155,22 @@ TEST(SimDeterminismTest, SameSeedGivesTheSameJointTrajectoryAndImages) {
 TEST(SimRealtimeTest, RunsUnderTheRealtimeExecutorWithCamerasOnTheirOwnThread) {
   auto rig = testing::load_shipped_rig();
   testing::use_small_cameras(rig);
-  hal::BackendOptions options;
-  options.realtime = true;
-  SimBackend backend(rig, testing::load_shipped_scene("vergence"), options);
-  EXPECT_EQ(backend.manual_clock(), nullptr);
+  runtime::RealtimeExecutor executor;
+  auto backend =
+      testing::make_sim(rig, testing::load_shipped_scene("vergence"), executor.clock(), 0, true);
   std::vector<std::unique_ptr<hal::JointGroup>> groups;
-  groups.push_back(backend.make_joint_group("head"));
+  groups.push_back(backend->make_joint_group("head"));
   ExerciseLoop joint_loop(std::move(groups), 1000);
-  StereoLoop camera_loop(backend.make_camera("left_eye"), backend.make_camera("right_eye"), 100);
-  auto physics = backend.loops().front();
-  std::vector<runtime::ScheduledLoop> loops = {
-      {physics.loop, config::LoopConfig{"physics", physics.rate_hz, 0, -1, {}}},
-      {&joint_loop, config::LoopConfig{"joint", 1000.0, 0, -1, {}}},
-      {&camera_loop, config::LoopConfig{"camera", 20.0, 0, -1, {}}},
-  };
-  runtime::RealtimeExecutor executor(backend.clock(), loops, runtime::RealtimeOptions{});
+  StereoLoop camera_loop(backend->make_camera("left_eye"), backend->make_camera("right_eye"), 100);
+  const auto physics = backend->loops().front();
+  executor.add_loop({physics.loop, runtime::LoopSchedule{physics.rate_hz, 0, -1, {}}});
+  executor.add_loop({&joint_loop, runtime::LoopSchedule{1000.0, 0, -1, {}}});
+  executor.add_loop({&camera_loop, runtime::LoopSchedule{20.0, 0, -1, {}}});
+  backend->configure();
+  backend->activate();
   std::atomic<bool> stop{false};
-  (void)executor.run(stop, 500'000'000, false);
+  (void)executor.run(stop, 500'000'000, {});
+  backend->deactivate();
   for (const auto& stats : executor.statistics()) {
     EXPECT_EQ(stats.failed_updates, 0u) << stats.name;
     EXPECT_GT(stats.cycles, 0u) << stats.name;
@@ -177,7 +178,7 @@ TEST(SimRealtimeTest, RunsUnderTheRealtimeExecutorWithCamerasOnTheirOwnThread) {
   EXPECT_GT(camera_loop.hashes().size(), 2u) << "both eyes grabbed on the camera thread";
   // Ground truth renders from this thread after the camera thread used the GL context.
   hal::Image rgb;
-  EXPECT_NO_THROW(backend.ground_truth().render("left_eye", 0, 0, ViewOptions{}, rgb, nullptr));
+  EXPECT_NO_THROW(backend->ground_truth().render("left_eye", 0, 0, ViewOptions{}, rgb, nullptr));
 }
 
 TEST(SimDeterminismTest, DifferentSeedGivesDifferentNoise) {
@@ -191,27 +192,49 @@ TEST(SimDeterminismTest, DifferentSeedGivesDifferentNoise) {
   }
 }
 
+/// Requests kEnable for the whole group and steps until every drive is operation enabled.
+void enable(hal::JointGroup& group, PhysicsLoop& physics, std::int64_t& t_ns) {
+  ASSERT_EQ(group.request(hal::DriveRequest::kEnable), hal::Status::kOk);
+  std::vector<hal::JointState> states(group.info().joints.size());
+  for (int step = 0; step < 10; ++step) {
+    ASSERT_EQ(physics.step_once(t_ns += 1'000'000), hal::Status::kOk);
+    std::int64_t stamp = 0;
+    ASSERT_EQ(group.read(states, stamp), hal::Status::kOk);
+    if (std::all_of(states.begin(), states.end(), [](const hal::JointState& state) {
+          return state.drive_state == hal::DriveState::kOperationEnabled;
+        })) {
+      return;
+    }
+  }
+  FAIL() << group.info().name << " did not reach operation enabled";
+}
+
 TEST(SimJointGroupTest, CommandsBeyondLimitsAreClampedFlaggedAndNeverExecuted) {
   auto rig = testing::load_shipped_rig();
-  SimBackend backend(rig, testing::load_shipped_scene("table"), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, testing::load_shipped_scene("table"), clock);
+  auto& backend = *sim;
   auto head = backend.make_joint_group("head");
   auto arm = backend.make_joint_group("right_arm");
   auto& physics = backend.physics();
-  physics.activate();
+  backend.activate();
+  std::int64_t t_ns = 0;
+  enable(*head, physics, t_ns);
+  enable(*arm, physics, t_ns);
   std::vector<hal::JointCommand> head_commands(head->info().joints.size());
   std::vector<hal::JointCommand> arm_commands(arm->info().joints.size());
   std::vector<hal::JointState> states(head->info().joints.size());
   for (std::size_t k = 0; k < head_commands.size(); ++k) {
-    head_commands[k] = {hal::CommandMode::kPosition, head->info().limits[k].max_position_rad + 1.0};
+    head_commands[k].value = head->info().limits[k].max_position_rad + 1.0;
   }
   for (std::size_t k = 0; k < arm_commands.size(); ++k) {
-    arm_commands[k] = {hal::CommandMode::kPosition, arm->info().limits[k].min_position_rad - 1.0};
+    arm_commands[k].value = arm->info().limits[k].min_position_rad - 1.0;
   }
   ASSERT_EQ(head->write(head_commands), hal::Status::kOk);
   ASSERT_EQ(arm->write(arm_commands), hal::Status::kOk);
   auto& truth = backend.ground_truth();
   for (int step = 0; step < 4'000; ++step) {
-    ASSERT_EQ(physics.step_once(step * 1'000'000LL), hal::Status::kOk);
+    ASSERT_EQ(physics.step_once(t_ns += 1'000'000), hal::Status::kOk);
     if (step % 20 != 0) continue;
     for (const auto* group : {head.get(), arm.get()}) {
       for (std::size_t k = 0; k < group->info().joints.size(); ++k) {
@@ -247,18 +270,25 @@ TEST(SimJointGroupTest, CommandsBeyondLimitsAreClampedFlaggedAndNeverExecuted) {
 
 TEST(SimJointGroupTest, ArmsTrackTheirServoThroughPhysicsAndEncodersQuantise) {
   auto rig = testing::load_shipped_rig();
-  SimBackend backend(rig, testing::load_shipped_scene("vergence"), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock);
+  auto& backend = *sim;
   auto arm = backend.make_joint_group("left_arm");
   auto& physics = backend.physics();
+  backend.activate();
+  std::int64_t t_ns = 0;
+  enable(*arm, physics, t_ns);
   const std::vector<double> targets = {0.3, 0.4, 0.8, -0.3, 0.2};
-  std::vector<hal::JointCommand> commands;
-  for (const double t : targets) commands.push_back({hal::CommandMode::kPosition, t});
+  std::vector<hal::JointCommand> commands(targets.size());
+  for (std::size_t k = 0; k < targets.size(); ++k) commands[k].value = targets[k];
   ASSERT_EQ(arm->write(commands), hal::Status::kOk);
-  for (int step = 0; step < 3'000; ++step) ASSERT_EQ(physics.step_once(step), hal::Status::kOk);
+  for (int step = 0; step < 3'000; ++step) {
+    ASSERT_EQ(physics.step_once(t_ns += 1'000'000), hal::Status::kOk);
+  }
   std::vector<hal::JointState> states(targets.size());
   std::int64_t stamp = 0;
   ASSERT_EQ(arm->read(states, stamp), hal::Status::kOk);
-  const double count = 2.0 * M_PI / 65536.0;
+  const double count = 2 * std::numbers::pi / 65536.0;
   for (std::size_t k = 0; k < targets.size(); ++k) {
     const auto& name = arm->info().joints[k];
     const double truth = backend.ground_truth().joint_position_rad(name);
@@ -279,13 +309,18 @@ config::SceneConfig bare_table() {
 
 TEST(SimTouchTest, FiresWhenTheHandIsDrivenIntoTheTableNotInFreeSpace) {
   auto rig = testing::load_shipped_rig();
-  SimBackend backend(rig, bare_table(), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, bare_table(), clock);
+  auto& backend = *sim;
   auto arm = backend.make_joint_group("left_arm");
   auto hand = backend.make_touch_sensor("left_hand");
   auto& physics = backend.physics();
-  std::vector<hal::JointCommand> commands(5, {hal::CommandMode::kPosition, 0.0});
-  hal::TouchReading reading;
+  backend.configure();
+  backend.activate();
   std::int64_t t = 0;
+  enable(*arm, physics, t);
+  std::vector<hal::JointCommand> commands(5);
+  hal::TouchReading reading;
   auto settle = [&](int steps, bool expect_contact_free) {
     for (int k = 0; k < steps; ++k) {
       ASSERT_EQ(physics.step_once(t += 1'000'000), hal::Status::kOk);
@@ -319,9 +354,11 @@ TEST(SimTouchTest, FiresWhenTheHandIsDrivenIntoTheTableNotInFreeSpace) {
 
 TEST(SimGroundTruthTest, ScriptedObjectsFollowTheirPaths) {
   auto rig = testing::load_shipped_rig();
-  SimBackend backend(rig, testing::load_shipped_scene("distractors"), hal::BackendOptions{});
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, testing::load_shipped_scene("distractors"), clock);
+  auto& backend = *sim;
   auto& physics = backend.physics();
-  physics.activate();
+  backend.activate();
   const Eigen::Vector3d start = backend.ground_truth().X_WO("crossing_ball").translation();
   EXPECT_NEAR(start.y(), 1.2, 1e-9);
   // Waypoints: starts moving at 1 s, crosses 2.4 m in 4 s; at 3 s it is halfway.
@@ -332,13 +369,14 @@ TEST(SimGroundTruthTest, ScriptedObjectsFollowTheirPaths) {
 }
 
 TEST(SimBackendTest, RegistersAsTheSimBackendAndReportsItsPhysicsLoop) {
+  const auto rig = testing::load_shipped_rig();
   hal::BackendFactory factory;
-  register_sim_backend(factory);
+  // The application loads the experiment's scene and hands it to the maker.
+  register_sim_backend(factory, rig, testing::load_shipped_scene("vergence"));
   ASSERT_TRUE(factory.has("sim"));
-  auto rig = testing::load_shipped_rig();
-  hal::BackendOptions options;
-  options.scene_path = "vergence";  // A shipped scene by name.
-  auto backend = factory.make("sim", rig, options, "test");
+  hal::ManualClock clock;
+  auto backend =
+      factory.make("sim", config::hardware_description(rig), hal::BackendContext{&clock}, "test");
   const auto loops = backend->loops();
   ASSERT_EQ(loops.size(), 1u);
   EXPECT_EQ(loops[0].rate_hz, rig.sim.physics_rate_hz);
@@ -347,6 +385,117 @@ TEST(SimBackendTest, RegistersAsTheSimBackendAndReportsItsPhysicsLoop) {
   EXPECT_THROW(backend->make_camera("no_such_camera"), std::runtime_error);
   auto head = backend->make_joint_group("head");
   EXPECT_THROW(backend->make_joint_group("head"), std::runtime_error) << "one writer per group";
+  // Readings exist as soon as the group does; the drives boot on activate().
+  std::vector<hal::JointState> states(head->info().joints.size());
+  std::int64_t stamp = -1;
+  ASSERT_EQ(head->read(states, stamp), hal::Status::kOk);
+  EXPECT_EQ(states[0].drive_state, hal::DriveState::kNotReadyToSwitchOn);
+  clock.advance_to_ns(7'000'000);
+  backend->configure();
+  backend->activate();
+  ASSERT_EQ(head->read(states, stamp), hal::Status::kOk);
+  EXPECT_EQ(stamp, 7'000'000) << "the first readings are stamped on the run's clock";
+  for (const auto& state : states) {
+    EXPECT_EQ(state.drive_state, hal::DriveState::kSwitchOnDisabled);
+    EXPECT_EQ(state.stamp_ns, 7'000'000);
+    EXPECT_TRUE(state.status_bits & hal::kJointNotEnabled);
+  }
+  EXPECT_THROW(backend->make_joint_group("left_arm"), std::logic_error)
+      << "groups are made before the physics loop runs";
+}
+
+TEST(SimBackendTest, RefusesToBeBuiltWithoutTheRunsClock) {
+  const auto rig = testing::load_shipped_rig();
+  EXPECT_THROW(SimBackend(rig, testing::empty_scene(), config::hardware_description(rig),
+                          hal::BackendContext{}),
+               std::invalid_argument);
+}
+
+/// A sim whose head pans (so every step's view differs), stepped by hand to `steps`.
+struct PanningHead {
+  hal::ManualClock clock;
+  std::unique_ptr<SimBackend> backend;
+  std::unique_ptr<hal::JointGroup> head;
+  std::unique_ptr<hal::Camera> left, right;
+  std::int64_t t_ns = 0;
+
+  explicit PanningHead(const config::RigConfig& rig)
+      : backend(testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock)),
+        head(backend->make_joint_group("head")),
+        left(backend->make_camera("left_eye")),
+        right(backend->make_camera("right_eye")) {
+    backend->activate();
+    enable(*head, backend->physics(), t_ns);
+    std::vector<hal::JointCommand> commands(head->info().joints.size());
+    commands[0].value = 0.5;  // neck_pan
+    EXPECT_EQ(head->write(commands), hal::Status::kOk);
+  }
+  void step_to(std::uint64_t steps) {
+    while (backend->physics().steps() < steps) {
+      ASSERT_EQ(backend->physics().step_once(t_ns += 1'000'000), hal::Status::kOk);
+    }
+  }
+};
+
+TEST(SimCameraTest, GrabNeverWaitsForTheRenderer) {
+  auto rig = testing::load_shipped_rig();
+  testing::use_small_cameras(rig);
+  PanningHead sim(rig);
+  sim.step_to(10);
+  const auto& k = sim.left->info().intrinsics;
+  hal::Image image(k.width_px, k.height_px, sim.left->info().format);
+  // Another thread (ground truth for an evaluation, say) holds the renderer for 300 ms.
+  std::atomic<bool> held{false};
+  std::thread holder([&] {
+    const Renderer::Lease lease(sim.backend->renderer(), Renderer::Lease::Mode::kWait);
+    held = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  });
+  while (!held) std::this_thread::yield();
+  const auto start = std::chrono::steady_clock::now();
+  const hal::Status busy = sim.left->grab(image);
+  const auto waited = std::chrono::steady_clock::now() - start;
+  holder.join();
+  EXPECT_EQ(busy, hal::Status::kNoNewData) << "the camera loop skips a cycle, it does not wait";
+  EXPECT_LT(waited, std::chrono::milliseconds(100));
+  EXPECT_EQ(image.sequence, 0u) << "the image was left untouched";
+  EXPECT_EQ(sim.left->grab(image), hal::Status::kOk) << "and grabs once the renderer is free";
+}
+
+TEST(SimCameraTest, BothEyesOfACycleSeeOneSnapshotWhateverRendersBetweenThem) {
+  auto rig = testing::load_shipped_rig();
+  testing::use_small_cameras(rig);
+  testing::make_ideal(rig);
+  PanningHead sim(rig);
+  const auto& k = sim.left->info().intrinsics;
+  hal::Image left_image(k.width_px, k.height_px, sim.left->info().format);
+  hal::Image right_image(k.width_px, k.height_px, sim.right->info().format);
+  sim.step_to(50);
+  const std::int64_t stamp_50 = sim.t_ns;
+  ASSERT_EQ(sim.left->grab(left_image), hal::Status::kOk);
+  // Between the eyes' grabs: the head pans on, and ground truth renders the newer state.
+  sim.step_to(250);
+  hal::Image truth;
+  sim.backend->ground_truth().render("right_eye", 0, 0, ViewOptions{}, truth, nullptr);
+  EXPECT_EQ(truth.stamp_ns, sim.t_ns);
+  ASSERT_EQ(sim.right->grab(right_image), hal::Status::kOk);
+  EXPECT_EQ(left_image.stamp_ns, stamp_50);
+  EXPECT_EQ(right_image.stamp_ns, stamp_50) << "a stereo pair has equal stamps";
+  // What the right eye rendered is the instant of step 50, as a sim stopped there renders it.
+  PanningHead reference(rig);
+  reference.step_to(50);
+  hal::Image expected(k.width_px, k.height_px, reference.right->info().format);
+  ASSERT_EQ(reference.right->grab(expected), hal::Status::kOk);
+  EXPECT_EQ(expected.stamp_ns, stamp_50);
+  EXPECT_TRUE(
+      std::equal(right_image.bytes().begin(), right_image.bytes().end(), expected.bytes().begin()))
+      << "the right eye rendered another instant than the left";
+  // The next cycle moves both eyes on to the newest snapshot.
+  ASSERT_EQ(sim.left->grab(left_image), hal::Status::kOk);
+  ASSERT_EQ(sim.right->grab(right_image), hal::Status::kOk);
+  EXPECT_EQ(left_image.stamp_ns, sim.t_ns);
+  EXPECT_EQ(right_image.stamp_ns, sim.t_ns);
+  EXPECT_EQ(sim.left->grab(left_image), hal::Status::kNoNewData);
 }
 
 }  // namespace

@@ -1,11 +1,15 @@
 // `cambio render` and `cambio sim-bench` end to end, through the built program.
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "../apps/run_cambio.hpp"
+#include "cambio/config/shipped_config.hpp"
 
 namespace cambio::sim {
 namespace {
@@ -70,12 +74,31 @@ TEST(RenderCommandTest, BadSceneIsRefusedWithFileLineColumn) {
   EXPECT_FALSE(std::filesystem::exists(dir / "left.png"));
 }
 
+// The vergence scene under a name with a quote and a backslash: names are user text, and the
+// JSON must stay valid whatever they hold.
 TEST(SimBenchCommandTest, PrintsTheFiguresAsJson) {
-  const auto result = run_cambio("sim-bench --json --width 160 --height 120 --seconds 0.4");
+  const auto dir = fresh_dir("sim_bench");
+  std::filesystem::create_directories(dir);
+  const std::string name = "quote \" and backslash \\ scene";
+  std::ifstream shipped(config::find_shipped_config("scenes/vergence.yaml"));
+  std::string yaml((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+  const std::string shipped_name = "  name: vergence\n";
+  ASSERT_NE(yaml.find(shipped_name), std::string::npos);
+  yaml.replace(yaml.find(shipped_name), shipped_name.size(), "  name: '" + name + "'\n");
+  const auto scene = dir / "renamed.yaml";
+  std::ofstream(scene) << yaml;
+
+  const auto result = run_cambio("sim-bench --json --width 160 --height 120 --seconds 0.4 " +
+                                     std::string("--camera-scene '") + scene.string() + "'",
+                                 cambio::testing::Capture::kStdout);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* key : {"\"physics_steps_per_s\"", "\"width\": 160", "\"height\": 120",
-                          "\"camera_stereo_fps\"", "\"raw_mujoco_stereo_fps\""}) {
-    EXPECT_NE(result.output.find(key), std::string::npos) << key << " in " << result.output;
+  const auto figures = nlohmann::json::parse(result.output, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(figures.is_discarded()) << "not JSON:\n" << result.output;
+  EXPECT_EQ(figures["camera_scene"], name);
+  EXPECT_EQ(figures["width"], 160);
+  EXPECT_EQ(figures["height"], 120);
+  for (const char* key : {"physics_steps_per_s", "camera_stereo_fps", "raw_mujoco_stereo_fps"}) {
+    EXPECT_TRUE(figures[key].is_number()) << key << " in " << result.output;
   }
 }
 

@@ -2,22 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <string>
 
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
+#include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/clock.hpp"
 #include "cambio/hal/image.hpp"
+#include "cambio/sim/sim_backend.hpp"
 
 namespace cambio::sim::testing {
 
 inline config::RigConfig load_shipped_rig(const std::string& name = "cambio") {
-  return config::load_rig(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/" + name +
-                          ".yaml");
+  return config::load_rig(config::find_shipped_config("rigs/" + name + ".yaml"));
 }
 
 inline config::SceneConfig load_shipped_scene(const std::string& name) {
-  return config::load_scene(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/scenes/" + name +
-                            ".yaml");
+  return config::load_scene(config::find_shipped_config("scenes/" + name + ".yaml"));
 }
 
 /// Shrinks every camera to 160x120 with the same 60 deg horizontal field of view (focal from
@@ -30,6 +34,29 @@ inline void use_small_cameras(config::RigConfig& rig) {
     camera.focal_x_px = camera.focal_y_px = 138.564;
     camera.principal_x_px = 79.5;
     camera.principal_y_px = 59.5;
+  }
+}
+
+/// A sim backend built directly, as the "sim" maker builds it: the hardware description from the
+/// rig, the run's clock from the caller (a ManualClock, or an executor's clock()).
+inline std::unique_ptr<SimBackend> make_sim(const config::RigConfig& rig,
+                                            const config::SceneConfig& scene, hal::Clock& clock,
+                                            std::uint64_t seed = 0, bool realtime = false,
+                                            const MjcfOptions& mjcf_options = {}) {
+  return std::make_unique<SimBackend>(rig, scene, config::hardware_description(rig),
+                                      hal::BackendContext{&clock, seed, realtime}, mjcf_options);
+}
+
+/// A scene with nothing in it (quick to build; no floor to collide with).
+inline config::SceneConfig empty_scene() {
+  return config::load_scene_from_string("world: {floor: false}\n", "empty.yaml");
+}
+
+/// Puts a rig group on another backend (the sim then only builds its joints, and may follow it).
+inline void set_group_backend(config::RigConfig& rig, const std::string& group,
+                              const std::string& backend) {
+  for (auto& g : rig.groups) {
+    if (g.name == group) g.backend = backend;
   }
 }
 

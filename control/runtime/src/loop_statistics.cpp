@@ -40,48 +40,67 @@ double per_cycle(std::uint64_t total, std::uint64_t cycles) {
 }
 }  // namespace
 
+bool passes_allocation_gate(const LoopStatistics& stats) {
+  return stats.allocation_exempt || stats.allocations == 0;
+}
+
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count) {
   std::string out;
   char line[256];
-  std::snprintf(line, sizeof line, "%-12s %8s %9s %9s %9s %9s %9s %8s %9s %10s\n", "loop",
+  std::snprintf(line, sizeof line, "%-12s %8s %9s %9s %9s %9s %9s %8s %9s %10s %6s\n", "loop",
                 "rate_hz", "cycles", "p50_us", "p99_us", "p99.9_us", "max_us", "overruns",
-                "exec_p99", "alloc/cyc");
+                "exec_p99", "alloc/cyc", "torn");
   out += line;
   for (std::size_t i = 0; i < count; ++i) {
     const LoopStatistics& s = stats[i];
     std::snprintf(line, sizeof line,
-                  "%-12s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f\n", s.name.c_str(),
-                  s.rate_hz, static_cast<unsigned long long>(s.cycles),
+                  "%-12s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f%s %5llu\n",
+                  s.name.c_str(), s.rate_hz, static_cast<unsigned long long>(s.cycles),
                   s.wakeup_latency.percentile_us(0.50), s.wakeup_latency.percentile_us(0.99),
                   s.wakeup_latency.percentile_us(0.999),
                   static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0,
                   static_cast<unsigned long long>(s.overruns), s.execution_time.percentile_us(0.99),
-                  per_cycle(s.allocations, s.cycles));
+                  per_cycle(s.allocations, s.cycles), s.allocation_exempt ? "*" : " ",
+                  static_cast<unsigned long long>(s.torn_reads));
     out += line;
+  }
+  bool any_exempt = false;
+  for (std::size_t i = 0; i < count; ++i) any_exempt = any_exempt || stats[i].allocation_exempt;
+  if (any_exempt)
+    out += "* declared to allocate in update() (exempt from the zero-allocation gate)\n";
+  for (std::size_t i = 0; i < count; ++i) {
+    if (stats[i].faults == 0) continue;
+    out += "loop '" + stats[i].name + "' reported " + std::to_string(stats[i].faults) +
+           " fault(s), the last: " + stats[i].fault_message + "\n";
   }
   return out;
 }
 
-std::string statistics_json(const LoopStatistics& s) {
-  char text[768];
-  std::snprintf(
-      text, sizeof text,
-      "{\"name\": \"%s\", \"rate_hz\": %.6g, \"cycles\": %llu, \"p50_us\": %.3f, \"p99_us\": %.3f, "
-      "\"p999_us\": %.3f, \"max_us\": %.3f, \"mean_us\": %.3f, \"overruns\": %llu, "
-      "\"skipped_cycles\": %llu, \"failed_updates\": %llu, \"allocations_per_cycle\": %.6g, "
-      "\"exec_p50_us\": %.3f, \"exec_p99_us\": %.3f, \"exec_max_us\": %.3f, "
-      "\"realtime_priority\": %s, \"cpu_affinity\": %s}",
-      s.name.c_str(), s.rate_hz, static_cast<unsigned long long>(s.cycles),
-      s.wakeup_latency.percentile_us(0.50), s.wakeup_latency.percentile_us(0.99),
-      s.wakeup_latency.percentile_us(0.999),
-      static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0, s.wakeup_latency.mean_ns() / 1000.0,
-      static_cast<unsigned long long>(s.overruns),
-      static_cast<unsigned long long>(s.skipped_cycles),
-      static_cast<unsigned long long>(s.failed_updates), per_cycle(s.allocations, s.cycles),
-      s.execution_time.percentile_us(0.50), s.execution_time.percentile_us(0.99),
-      static_cast<double>(s.execution_time.max_ns()) / 1000.0,
-      s.realtime_priority_granted ? "true" : "false", s.cpu_affinity_granted ? "true" : "false");
-  return text;
+nlohmann::ordered_json statistics_json(const LoopStatistics& s) {
+  nlohmann::ordered_json json;
+  json["name"] = s.name;
+  json["rate_hz"] = s.rate_hz;
+  json["cycles"] = s.cycles;
+  json["p50_us"] = s.wakeup_latency.percentile_us(0.50);
+  json["p99_us"] = s.wakeup_latency.percentile_us(0.99);
+  json["p999_us"] = s.wakeup_latency.percentile_us(0.999);
+  json["max_us"] = static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0;
+  json["mean_us"] = s.wakeup_latency.mean_ns() / 1000.0;
+  json["overruns"] = s.overruns;
+  json["skipped_cycles"] = s.skipped_cycles;
+  json["failed_updates"] = s.failed_updates;
+  json["allocations_per_cycle"] = per_cycle(s.allocations, s.cycles);
+  json["allocations"] = s.allocations;
+  json["allocation_exempt"] = s.allocation_exempt;
+  json["torn_reads"] = s.torn_reads;
+  json["faults"] = s.faults;
+  json["fault_message"] = s.fault_message;
+  json["exec_p50_us"] = s.execution_time.percentile_us(0.50);
+  json["exec_p99_us"] = s.execution_time.percentile_us(0.99);
+  json["exec_max_us"] = static_cast<double>(s.execution_time.max_ns()) / 1000.0;
+  json["realtime_priority"] = s.realtime_priority_granted;
+  json["cpu_affinity"] = s.cpu_affinity_granted;
+  return json;
 }
 
 }  // namespace cambio::runtime

@@ -4,7 +4,9 @@
 #include <sched.h>
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -13,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cambio/hal/torn_reads.hpp"
 #include "cambio/runtime/allocation_counter.hpp"
 
 namespace cambio::runtime {
@@ -28,30 +31,24 @@ std::string errno_text(int error) {
 
 }  // namespace
 
-RealtimeExecutor::RealtimeExecutor(hal::Clock& clock, std::vector<ScheduledLoop> loops,
-                                   RealtimeOptions options)
-    : clock_(clock), loops_(std::move(loops)), options_(options) {
-  for (const auto& scheduled : loops_) {
-    if (scheduled.loop == nullptr) throw std::invalid_argument("realtime executor: null loop");
-    if (!(scheduled.schedule.rate_hz > 0.0)) {
-      throw std::invalid_argument("realtime executor: loop '" + scheduled.loop->name() +
-                                  "' has rate_hz <= 0");
-    }
-    if (scheduled.schedule.priority < 0 || scheduled.schedule.priority > 99) {
-      throw std::invalid_argument("realtime executor: loop '" + scheduled.loop->name() +
-                                  "' has priority outside 0..99");
-    }
-  }
+RealtimeExecutor::RealtimeExecutor(std::vector<ScheduledLoop> loops, RealtimeOptions options)
+    : options_(options) {
+  for (auto& loop : loops) add_loop(loop);
 }
 
-std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
-                                               std::int64_t duration_ns, bool print_warnings) {
-  std::vector<std::string> warnings;
+void RealtimeExecutor::add_loop(ScheduledLoop loop) {
+  validate(loop, "realtime");
+  loops_.push_back(loop);
+}
+
+std::int64_t RealtimeExecutor::run(const std::atomic<bool>& stop, std::int64_t duration_ns,
+                                   const Progress& progress) {
+  warnings_.clear();
   std::mutex warnings_mutex;  // Only used before the cycles start and after they end.
   auto warn = [&](std::string text) {
     const std::lock_guard lock(warnings_mutex);
-    if (print_warnings) std::cerr << "warning: " << text << "\n";
-    warnings.push_back(std::move(text));
+    if (options_.print_warnings) std::cerr << "warning: " << text << "\n";
+    warnings_.push_back(std::move(text));
   };
 
   if (options_.lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
@@ -63,6 +60,7 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
   std::latch configured(static_cast<std::ptrdiff_t>(loops_.size()));
   std::atomic<bool> abort{false};
   std::atomic<std::int64_t> start_ns{0};
+  std::atomic<std::size_t> finished{0};
   std::vector<std::exception_ptr> errors(loops_.size());
   std::vector<std::thread> threads;
   threads.reserve(loops_.size());
@@ -73,6 +71,7 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
       LoopStatistics& stats = stats_[index];
       stats.name = scheduled.loop->name();
       stats.rate_hz = scheduled.schedule.rate_hz;
+      stats.allocation_exempt = scheduled.loop->allocates_in_update();
 
       if (scheduled.schedule.cpu >= 0) {
         cpu_set_t cpus;
@@ -115,6 +114,7 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
       while ((start = start_ns.load(std::memory_order_acquire)) == 0) std::this_thread::yield();
       if (!active || abort.load()) {
         if (active) scheduled.loop->deactivate();
+        finished.fetch_add(1);
         return;
       }
 
@@ -131,21 +131,23 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
         const std::int64_t woke = clock_.now_ns();
         const hal::LoopTick tick{k, deadline, woke, 1.0 / rate_hz};
         const std::uint64_t allocations_before = thread_allocation_count();
+        const std::uint64_t torn_before = hal::thread_torn_read_count();
         const hal::Status status = scheduled.loop->update(tick);
-        const std::int64_t finished = clock_.now_ns();
+        const std::int64_t finished_ns = clock_.now_ns();
         stats.allocations += thread_allocation_count() - allocations_before;
+        stats.torn_reads += hal::thread_torn_read_count() - torn_before;
         stats.wakeup_latency.record_ns(woke - deadline);
-        stats.execution_time.record_ns(finished - woke);
+        stats.execution_time.record_ns(finished_ns - woke);
         if (status != hal::Status::kOk && status != hal::Status::kNoNewData) {
           ++stats.failed_updates;
         }
         ++stats.cycles;
 
         std::uint64_t next = k + 1;
-        if (finished > deadline_ns(start, next, rate_hz)) {
+        if (finished_ns > deadline_ns(start, next, rate_hz)) {
           ++stats.overruns;
-          if (scheduled.schedule.overrun == config::OverrunPolicy::kSkip) {
-            while (deadline_ns(start, next, rate_hz) < finished) ++next;
+          if (scheduled.schedule.overrun == OverrunPolicy::kSkip) {
+            while (deadline_ns(start, next, rate_hz) < finished_ns) ++next;
             // Only deadlines inside the run count as skipped; an overrun of the last cycle
             // passes deadlines that were never due.
             std::uint64_t due_end = next;
@@ -156,15 +158,33 @@ std::vector<std::string> RealtimeExecutor::run(const std::atomic<bool>& stop,
         k = next;
       }
       scheduled.loop->deactivate();
+      stats.fault_message = std::string(scheduled.loop->fault_message());
+      stats.faults = scheduled.loop->fault_count();
+      finished.fetch_add(1);
     });
   }
+
+  // Report progress from this thread while the loops run.
+  constexpr auto kProgressPeriod = std::chrono::milliseconds(100);
+  while (finished.load() < loops_.size()) {
+    std::this_thread::sleep_for(kProgressPeriod);
+    const std::int64_t start = start_ns.load(std::memory_order_acquire);
+    if (progress && start != 0 && !abort.load()) {
+      std::int64_t done = std::max<std::int64_t>(0, clock_.now_ns() - start);
+      if (duration_ns > 0) done = std::min(done, duration_ns);
+      progress(static_cast<double>(done) * 1e-9);
+    }
+  }
   for (auto& thread : threads) thread.join();
+  const std::int64_t start = start_ns.load();
+  std::int64_t done_ns = start == 0 ? 0 : std::max<std::int64_t>(0, clock_.now_ns() - start);
+  if (duration_ns > 0) done_ns = std::min(done_ns, duration_ns);
 
   if (options_.lock_memory) munlockall();
   for (const auto& error : errors) {
     if (error) std::rethrow_exception(error);
   }
-  return warnings;
+  return done_ns;
 }
 
 }  // namespace cambio::runtime

@@ -10,6 +10,7 @@
 #include "cambio/hal/joint_group.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
+#include "cambio/hal/torn_reads.hpp"
 #include "cambio/hal/triple_buffer.hpp"
 #include "cambio/runtime/allocation_counter.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
@@ -126,10 +127,11 @@ class PerceptionLoop final : public NamedLoop {
   hal::Image working_;
 };
 
-// A loop that allocates, to show the counter sees what it claims to see.
+// A loop that allocates, to show the counter sees what it claims to see; it may declare it.
 class AllocatingLoop final : public NamedLoop {
  public:
-  AllocatingLoop() : NamedLoop("allocating") {}
+  explicit AllocatingLoop(bool declares = false) : NamedLoop("allocating"), declares_(declares) {}
+  bool allocates_in_update() const override { return declares_; }
   hal::Status update(const hal::LoopTick&) noexcept override {
     try {
       scratch_.push_back(std::vector<int>(16));
@@ -140,12 +142,12 @@ class AllocatingLoop final : public NamedLoop {
   }
 
  private:
+  bool declares_;
   std::vector<std::vector<int>> scratch_;
 };
 
-config::LoopConfig rate(const std::string& name, double hz) {
-  config::LoopConfig loop;
-  loop.name = name;
+LoopSchedule rate(double hz) {
+  LoopSchedule loop;
   loop.rate_hz = hz;
   return loop;
 }
@@ -156,11 +158,8 @@ TEST(Allocation, LockstepRuntimeWithChannelsAllocatesNothingOver10000Cycles) {
   ControlLoop control(channels);
   CameraLoop camera(channels);
   PerceptionLoop perception(channels);
-  hal::ManualClock clock;
-  LockstepExecutor executor(clock, {{&joint, rate("joint", 1000)},
-                                    {&control, rate("control", 200)},
-                                    {&perception, rate("perception", 60)},
-                                    {&camera, rate("camera", 30)}});
+  LockstepExecutor executor(
+      {{&joint, rate(1000)}, {&control, rate(200)}, {&perception, rate(60)}, {&camera, rate(30)}});
   executor.configure();
 
   const std::uint64_t before = thread_allocation_count();
@@ -185,15 +184,11 @@ TEST(Allocation, RealtimeRuntimeWithChannelsAllocatesNothing) {
   ControlLoop control(channels);
   CameraLoop camera(channels);
   PerceptionLoop perception(channels);
-  hal::MonotonicClock clock;
-  RealtimeExecutor executor(clock,
-                            {{&joint, rate("joint", 1000)},
-                             {&control, rate("control", 200)},
-                             {&perception, rate("perception", 60)},
-                             {&camera, rate("camera", 30)}},
-                            {});
+  RealtimeExecutor executor(
+      {{&joint, rate(1000)}, {&control, rate(200)}, {&perception, rate(60)}, {&camera, rate(30)}},
+      {false, /*print_warnings=*/false});
   const std::atomic<bool> never{false};
-  executor.run(never, 500'000'000, false);
+  executor.run(never, 500'000'000);
   for (const auto& stats : executor.statistics()) {
     EXPECT_GT(stats.cycles, 0u) << stats.name;
     EXPECT_EQ(stats.allocations, 0u) << stats.name;
@@ -202,11 +197,50 @@ TEST(Allocation, RealtimeRuntimeWithChannelsAllocatesNothing) {
 
 TEST(Allocation, TheCounterSeesAnAllocatingLoop) {
   AllocatingLoop allocating;
-  hal::ManualClock clock;
-  LockstepExecutor executor(clock, {{&allocating, rate("allocating", 100)}});
+  LockstepExecutor executor({{&allocating, rate(100)}});
   executor.configure();
   executor.run_until_ns(100'000'000);
   EXPECT_GE(executor.statistics()[0].allocations, 10u);
+  EXPECT_FALSE(executor.statistics()[0].allocation_exempt);
+  EXPECT_FALSE(passes_allocation_gate(executor.statistics()[0]));
+}
+
+TEST(Allocation, ALoopThatDeclaresItAllocatesIsCountedButExemptFromTheGate) {
+  AllocatingLoop declared(/*declares=*/true);
+  LockstepExecutor executor({{&declared, rate(100)}});
+  executor.configure();
+  executor.run_until_ns(100'000'000);
+  const LoopStatistics& stats = executor.statistics()[0];
+  EXPECT_GE(stats.allocations, 10u);
+  EXPECT_TRUE(stats.allocation_exempt);
+  EXPECT_TRUE(passes_allocation_gate(stats));
+  EXPECT_NE(format_statistics_table(&stats, 1).find("declared to allocate"), std::string::npos);
+}
+
+// Gives up on a latest-value read every other cycle (as SeqlockChannel::read does when its
+// writer is stuck mid-write).
+class TornReadingLoop final : public NamedLoop {
+ public:
+  TornReadingLoop() : NamedLoop("torn") {}
+  hal::Status update(const hal::LoopTick& tick) noexcept override {
+    if (tick.cycle % 2 == 0) hal::count_torn_read();
+    return hal::Status::kOk;
+  }
+};
+
+TEST(Allocation, ExecutorsCountEachLoopsTornReads) {
+  TornReadingLoop lockstep_loop;
+  LockstepExecutor lockstep({{&lockstep_loop, rate(100)}});
+  lockstep.configure();
+  lockstep.run_until_ns(100'000'000);
+  EXPECT_EQ(lockstep.statistics()[0].torn_reads, 5u);
+
+  TornReadingLoop realtime_loop;
+  RealtimeExecutor realtime({{&realtime_loop, rate(100)}}, {false, /*print_warnings=*/false});
+  const std::atomic<bool> never{false};
+  realtime.run(never, 100'000'000);
+  const LoopStatistics& stats = realtime.statistics()[0];
+  EXPECT_EQ(stats.torn_reads, (stats.cycles + 1) / 2);
 }
 
 }  // namespace

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <random>
+#include <stdexcept>
 
 #include "recording_loop.hpp"
 
@@ -14,27 +17,40 @@ using testing::RecordingLoop;
 using testing::schedule;
 using testing::TraceEntry;
 
-std::vector<TraceEntry> run_two_loops(std::int64_t duration_ns) {
-  hal::ManualClock clock;
+std::vector<TraceEntry> run_two_loops(std::int64_t duration_ns, void (*work)() = nullptr) {
+  LockstepExecutor executor;
   std::vector<TraceEntry> trace;
-  RecordingLoop joint("joint", clock, trace);
-  RecordingLoop control("control", clock, trace);
+  trace.reserve(static_cast<std::size_t>(duration_ns / 1'000'000 * 2));
+  RecordingLoop joint("joint", executor.clock(), trace);
+  RecordingLoop control("control", executor.clock(), trace);
+  joint.work = work;
   // control is listed first but joint has the higher priority: joint must run first on ties.
-  LockstepExecutor executor(
-      clock, {{&control, schedule("control", 200, 70)}, {&joint, schedule("joint", 1000, 80)}});
+  executor.add_loop({&control, schedule(200, 70)});
+  executor.add_loop({&joint, schedule(1000, 80)});
   executor.configure();
   executor.run_until_ns(duration_ns);
   executor.deactivate();
   return trace;
 }
 
+// Burns a random amount of wall time (0-50 µs), different on every call and every run.
+void burn_random_wall_time() {
+  static std::random_device entropy;
+  const auto until =
+      std::chrono::steady_clock::now() + std::chrono::nanoseconds(entropy() % 50'000);
+  while (std::chrono::steady_clock::now() < until) {
+  }
+}
+
 TEST(LockstepExecutor, RunsEachLoopAtExactlyItsRateOnSimulatedTime) {
-  hal::ManualClock clock;
+  LockstepExecutor executor;
+  hal::ManualClock& clock = executor.clock();
   std::vector<TraceEntry> trace;
+  trace.reserve(10'300);
   RecordingLoop joint("joint", clock, trace);
   RecordingLoop camera("camera", clock, trace);
-  LockstepExecutor executor(clock,
-                            {{&joint, schedule("joint", 1000)}, {&camera, schedule("camera", 30)}});
+  executor.add_loop({&joint, schedule(1000)});
+  executor.add_loop({&camera, schedule(30)});
   executor.configure();
   executor.run_until_ns(10'000'000'000);  // 10 s of simulated time.
 
@@ -70,15 +86,21 @@ TEST(LockstepExecutor, OrdersByDeadlineThenPriority) {
   EXPECT_EQ((at_5ms + 1)->loop, "control");
 }
 
-TEST(LockstepExecutor, IsDeterministic) {
-  EXPECT_EQ(run_two_loops(2'000'000'000), run_two_loops(2'000'000'000));
+TEST(LockstepExecutor, IsDeterministicWhateverTheWallClockDoes) {
+  // Each update takes a random wall time: if the executor let wall time leak into the order of
+  // the loops, their ticks or the clock they read, two runs would differ.
+  const auto first = run_two_loops(200'000'000, burn_random_wall_time);
+  const auto second = run_two_loops(200'000'000, burn_random_wall_time);
+  ASSERT_EQ(first.size(), 240u);
+  EXPECT_EQ(first, second);
 }
 
 TEST(LockstepExecutor, ResumesWhereItStopped) {
-  hal::ManualClock clock;
+  LockstepExecutor executor;
   std::vector<TraceEntry> split_trace;
-  RecordingLoop loop("joint", clock, split_trace);
-  LockstepExecutor executor(clock, {{&loop, schedule("joint", 1000)}});
+  split_trace.reserve(16);
+  RecordingLoop loop("joint", executor.clock(), split_trace);
+  executor.add_loop({&loop, schedule(1000)});
   executor.configure();
   executor.run_until_ns(3'500'000);
   executor.run_until_ns(7'000'000);
@@ -93,7 +115,55 @@ TEST(LockstepExecutor, RefusesAZeroRate) {
   hal::ManualClock clock;
   std::vector<TraceEntry> trace;
   RecordingLoop loop("joint", clock, trace);
-  EXPECT_THROW(LockstepExecutor(clock, {{&loop, schedule("joint", 0)}}), std::invalid_argument);
+  EXPECT_THROW(LockstepExecutor({{&loop, schedule(0)}}), std::invalid_argument);
+}
+
+TEST(LockstepExecutor, RunReportsProgressAndCollectsLoopFaults) {
+  LockstepExecutor executor;
+  std::vector<TraceEntry> trace;
+  trace.reserve(5);  // Fills after 5 cycles: every later update reports a fault.
+  RecordingLoop loop("joint", executor.clock(), trace);
+  executor.add_loop({&loop, schedule(100)});
+  std::vector<double> progress;
+  const std::atomic<bool> never{false};
+  EXPECT_EQ(executor.run(never, 250'000'000, [&](double done_s) { progress.push_back(done_s); }),
+            250'000'000);
+  EXPECT_EQ(progress, (std::vector<double>{0.1, 0.2, 0.25}));
+  const LoopStatistics& stats = executor.statistics()[0];
+  EXPECT_EQ(stats.cycles, 25u);
+  EXPECT_EQ(stats.failed_updates, 20u);
+  EXPECT_EQ(stats.faults, 20u);
+  EXPECT_EQ(stats.fault_message, "trace full");
+  EXPECT_EQ(loop.deactivate_calls, 1);
+}
+
+// A loop whose work calls something that throws (a library's control law).
+class ThrowingLoop final : public hal::Loop {
+ public:
+  const std::string& name() const override { return name_; }
+  hal::Status update(const hal::LoopTick& tick) noexcept override {
+    return guarded([&] {
+      if (tick.cycle % 2 == 1) throw std::runtime_error("singular interaction matrix");
+      return hal::Status::kOk;
+    });
+  }
+
+ private:
+  std::string name_ = "servo";
+};
+
+TEST(LockstepExecutor, AnExceptionInsideAGuardedUpdateIsAFaultOfThatLoopNotATermination) {
+  ThrowingLoop loop;
+  LockstepExecutor executor({{&loop, schedule(100)}});
+  const std::atomic<bool> never{false};
+  executor.run(never, 100'000'000, {});
+  const LoopStatistics& stats = executor.statistics()[0];
+  EXPECT_EQ(stats.cycles, 10u);
+  EXPECT_EQ(stats.failed_updates, 5u);
+  EXPECT_EQ(stats.faults, 5u);
+  EXPECT_EQ(stats.fault_message, "singular interaction matrix");
+  EXPECT_NE(format_statistics_table(&stats, 1).find("singular interaction matrix"),
+            std::string::npos);
 }
 
 TEST(DeadlineNs, IsExactForLongRuns) {

@@ -29,12 +29,23 @@ TEST(LoopStatistics, JsonCarriesTheKeysLoopBenchPromises) {
   stats.name = "joint";
   stats.rate_hz = 1000;
   stats.cycles = 10;
-  const std::string json = statistics_json(stats);
-  for (const char* key :
-       {"\"name\": \"joint\"", "\"rate_hz\": 1000", "\"cycles\": 10", "\"p50_us\"", "\"p99_us\"",
-        "\"p999_us\"", "\"max_us\"", "\"overruns\"", "\"allocations_per_cycle\""}) {
-    EXPECT_NE(json.find(key), std::string::npos) << key << " missing from " << json;
+  const nlohmann::json json = statistics_json(stats);
+  EXPECT_EQ(json.at("name"), "joint");
+  EXPECT_EQ(json.at("rate_hz"), 1000.0);
+  EXPECT_EQ(json.at("cycles"), 10u);
+  for (const char* key : {"p50_us", "p99_us", "p999_us", "max_us", "overruns",
+                          "allocations_per_cycle", "allocation_exempt", "torn_reads", "faults"}) {
+    EXPECT_TRUE(json.contains(key)) << key << " missing from " << json.dump();
   }
+}
+
+TEST(LoopStatistics, JsonStaysValidWhateverTheNamesAndMessages) {
+  LoopStatistics stats;
+  stats.name = "a \"quoted\" loop\\";
+  stats.fault_message = "line one\nline \"two\"";
+  const nlohmann::json parsed = nlohmann::json::parse(statistics_json(stats).dump());
+  EXPECT_EQ(parsed.at("name"), stats.name);
+  EXPECT_EQ(parsed.at("fault_message"), stats.fault_message);
 }
 
 }  // namespace

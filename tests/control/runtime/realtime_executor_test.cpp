@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <thread>
 
@@ -12,6 +13,8 @@ namespace cambio::runtime {
 namespace {
 
 using testing::schedule;
+
+constexpr RealtimeOptions kQuiet{false, /*print_warnings=*/false};
 
 class CountingLoop final : public hal::Loop {
  public:
@@ -37,16 +40,15 @@ class CountingLoop final : public hal::Loop {
 };
 
 TEST(RealtimeExecutor, RunsEachLoopAtItsRateForTheDuration) {
-  hal::MonotonicClock clock;
   CountingLoop fast("fast");
   CountingLoop slow("slow");
   // catch_up: a late wake-up on a loaded machine runs the missed cycles instead of dropping them.
-  auto fast_schedule = schedule("fast", 500);
-  auto slow_schedule = schedule("slow", 50);
-  fast_schedule.overrun = slow_schedule.overrun = config::OverrunPolicy::kCatchUp;
-  RealtimeExecutor executor(clock, {{&fast, fast_schedule}, {&slow, slow_schedule}}, {});
+  auto fast_schedule = schedule(500);
+  auto slow_schedule = schedule(50);
+  fast_schedule.overrun = slow_schedule.overrun = OverrunPolicy::kCatchUp;
+  RealtimeExecutor executor({{&fast, fast_schedule}, {&slow, slow_schedule}}, kQuiet);
   const std::atomic<bool> never{false};
-  executor.run(never, 400'000'000, /*print_warnings=*/false);
+  executor.run(never, 400'000'000);
 
   // Deadlines are absolute, so the count is exact whatever the scheduling noise: 0.4 s * rate.
   EXPECT_EQ(executor.statistics()[0].cycles, 200u);
@@ -78,13 +80,12 @@ class OverrunningLoop final : public hal::Loop {
 };
 
 TEST(RealtimeExecutor, SkipPolicyAccountsForEveryDeadlineOfTheRunExactlyOnce) {
-  hal::MonotonicClock clock;
   // 100 Hz for 100 ms: deadlines 0..9. Cycle 2 sleeps 25 ms (past deadlines 3 and 4, which are
   // skipped); the last cycle, 9, sleeps past the end of the run, which skips nothing.
   OverrunningLoop loop(2, 9, 25'000'000);
-  RealtimeExecutor executor(clock, {{&loop, schedule("overrunning", 100)}}, {});
+  RealtimeExecutor executor({{&loop, schedule(100)}}, kQuiet);
   const std::atomic<bool> never{false};
-  executor.run(never, 100'000'000, false);
+  executor.run(never, 100'000'000);
   const auto& stats = executor.statistics()[0];
   EXPECT_EQ(stats.cycles + stats.skipped_cycles, 10u);
   EXPECT_GE(stats.skipped_cycles, 2u);
@@ -104,16 +105,15 @@ TEST(RealtimeExecutor, StopsCleanlyOnSigint) {
   ASSERT_EQ(sigaction(SIGINT, &action, &previous), 0);
   g_sigint.store(false);
 
-  hal::MonotonicClock clock;
   CountingLoop loop("joint");
-  RealtimeExecutor executor(clock, {{&loop, schedule("joint", 1000)}}, {});
+  RealtimeExecutor executor({{&loop, schedule(1000)}}, kQuiet);
   std::thread interrupter([] {
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     std::raise(SIGINT);
   });
-  const std::int64_t started = clock.now_ns();
-  executor.run(g_sigint, /*duration_ns=*/0, false);  // No duration: only the signal stops it.
-  const std::int64_t elapsed = clock.now_ns() - started;
+  const std::int64_t started = executor.clock().now_ns();
+  executor.run(g_sigint, /*duration_ns=*/0);  // No duration: only the signal stops it.
+  const std::int64_t elapsed = executor.clock().now_ns() - started;
   interrupter.join();
   sigaction(SIGINT, &previous, nullptr);
 
@@ -123,28 +123,39 @@ TEST(RealtimeExecutor, StopsCleanlyOnSigint) {
   EXPECT_LT(elapsed, 2'000'000'000) << "the executor did not stop promptly after SIGINT";
 }
 
+TEST(RealtimeExecutor, ReportsProgressFromTheCallingThread) {
+  CountingLoop loop("joint");
+  RealtimeExecutor executor({{&loop, schedule(100)}}, kQuiet);
+  std::vector<double> progress;
+  const std::atomic<bool> never{false};
+  const std::int64_t done_ns =
+      executor.run(never, 450'000'000, [&](double done_s) { progress.push_back(done_s); });
+  EXPECT_EQ(done_ns, 450'000'000);
+  ASSERT_GE(progress.size(), 3u);
+  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
+  EXPECT_LE(progress.back(), 0.45);
+}
+
 TEST(RealtimeExecutor, RethrowsAConfigureFailureAfterStoppingTheOthers) {
-  hal::MonotonicClock clock;
   CountingLoop good("good");
   CountingLoop bad("bad");
   bad.fail_configure = true;
-  RealtimeExecutor executor(clock, {{&good, schedule("good", 100)}, {&bad, schedule("bad", 100)}},
-                            {});
+  RealtimeExecutor executor({{&good, schedule(100)}, {&bad, schedule(100)}}, kQuiet);
   const std::atomic<bool> never{false};
-  EXPECT_THROW(executor.run(never, 1'000'000'000, false), std::runtime_error);
+  EXPECT_THROW(executor.run(never, 1'000'000'000), std::runtime_error);
   EXPECT_EQ(good.updates.load(), 0u) << "no loop may start when another failed to configure";
   EXPECT_TRUE(good.deactivated.load());
 }
 
 TEST(RealtimeExecutor, RefusedPriorityIsAWarningNotAFailure) {
-  hal::MonotonicClock clock;
   CountingLoop loop("joint");
-  auto rt = schedule("joint", 200, 80);
+  auto rt = schedule(200, 80);
   rt.cpu = 0;
-  rt.overrun = config::OverrunPolicy::kCatchUp;
-  RealtimeExecutor executor(clock, {{&loop, rt}}, {});
+  rt.overrun = OverrunPolicy::kCatchUp;
+  RealtimeExecutor executor({{&loop, rt}}, kQuiet);
   const std::atomic<bool> never{false};
-  const auto warnings = executor.run(never, 50'000'000, false);
+  executor.run(never, 50'000'000);
+  const auto& warnings = executor.warnings();
   EXPECT_EQ(executor.statistics()[0].cycles, 10u);
   // Whether SCHED_FIFO is granted depends on the machine; either way the loop ran, and a
   // refusal came back as a warning.

@@ -6,6 +6,7 @@
 
 #include "cambio/hal/clock.hpp"
 #include "cambio/hal/loop.hpp"
+#include "cambio/runtime/scheduled_loop.hpp"
 
 namespace cambio::runtime::testing {
 
@@ -18,7 +19,10 @@ struct TraceEntry {
   bool operator==(const TraceEntry&) const = default;
 };
 
-/// A loop that appends each update to a shared trace (allocates: for ordering tests only).
+/// A loop that appends each update to a shared trace. The trace's capacity is reserved up front
+/// (the owner calls trace.reserve()), so update() never allocates; a full trace is a reported
+/// fault, never a reallocation inside noexcept code. `work` runs inside each update (a test can
+/// burn wall time there).
 class RecordingLoop final : public hal::Loop {
  public:
   RecordingLoop(std::string name, const hal::Clock& clock, std::vector<TraceEntry>& trace)
@@ -27,9 +31,13 @@ class RecordingLoop final : public hal::Loop {
   void configure() override { ++configure_calls; }
   void activate() override { ++activate_calls; }
   hal::Status update(const hal::LoopTick& tick) noexcept override {
+    if (work) work();
+    if (trace_.size() == trace_.capacity()) return report_fault("trace full");
+    // The name is copied into a string that fits the small-string buffer (no allocation).
     trace_.push_back({name_, clock_.now_ns(), tick.cycle, tick.deadline_ns});
     return hal::Status::kOk;
   }
+  void (*work)() = nullptr;
   void deactivate() noexcept override { ++deactivate_calls; }
 
   int configure_calls = 0;
@@ -42,9 +50,8 @@ class RecordingLoop final : public hal::Loop {
   std::vector<TraceEntry>& trace_;
 };
 
-inline config::LoopConfig schedule(const std::string& name, double rate_hz, int priority = 0) {
-  config::LoopConfig loop;
-  loop.name = name;
+inline LoopSchedule schedule(double rate_hz, int priority = 0) {
+  LoopSchedule loop;
   loop.rate_hz = rate_hz;
   loop.priority = priority;
   return loop;

@@ -3,10 +3,10 @@
 #include <cstdio>
 
 #include "cambio/config/experiment_config.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/image.hpp"
-#include "cambio/hal/manual_clock.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
 #include "cambio/perception/gaussian_kernels.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
@@ -37,19 +37,18 @@ int main(int argc, char** argv) {
   // The experiment shipped in the prefix, with the rig and perception files it names.
   const auto experiment = cambio::config::load_experiment(argv[argc - 1]);
 
-  cambio::hal::ManualClock clock;
   CountingLoop loop;
-  cambio::config::LoopConfig schedule;
-  schedule.name = "count";
-  schedule.rate_hz = 100;
-  cambio::runtime::LockstepExecutor executor(clock, {{&loop, schedule}});
+  cambio::runtime::LockstepExecutor executor;
+  executor.add_loop({&loop, cambio::runtime::LoopSchedule{100.0}});
   executor.configure();
   executor.run_until_ns(1'000'000'000);
 
   cambio::hal::BackendFactory factory;
-  cambio::sim::register_sim_backend(factory);
+  cambio::sim::register_sim_backend(factory, experiment.rig, cambio::config::SceneConfig{});
+  const cambio::hal::HardwareInfo hardware = cambio::config::hardware_description(experiment.rig);
 
   const bool ok = image.pixels.size() == 36 && value == 1.5 && experiment.rig.joints.size() == 15 &&
+                  hardware.joints.size() == 15 && hardware.stereo.has_value() &&
                   !experiment.perception_path.empty() && loop.cycles == 100 && factory.has("sim") &&
                   cambio::perception::gaussian_half_width(1.4, 3.0) == 5;
   std::printf("consumer: %s\n", ok ? "ok" : "MISMATCH");

@@ -19,10 +19,16 @@ struct JointTargetFrame {
 };
 
 /// What the encoders said, for every joint in rig order, from the joint loop to everyone else.
+/// Each state carries its own stamp, drive state and status bits (including the loop's latched
+/// and stale bits).
 struct JointStateFrame {
-  std::int64_t stamp_ns = 0;
+  std::int64_t stamp_ns = 0;  ///< The newest of the joints' stamps.
   int count = 0;
   std::array<hal::JointState, kMaxJoints> states{};
+  /// The loop sends no motion: a latched fault or lost joint (until a fault reset), or stale
+  /// feedback (until fresh readings arrive).
+  bool holding = false;
+  bool fault_latched = false;
 };
 
 }  // namespace cambio::control

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,44 +12,85 @@
 
 namespace cambio::control {
 
-/// The fast loop next to the hardware (1 kHz by default). Each cycle it reads every joint group,
-/// publishes the states, and sends the newest targets after enforcing, per joint:
-///  - position limits (the target is clamped, never sent beyond a limit; a NaN or infinite
-///    target holds the joint still),
-///  - the velocity limit (a position target moves at most max_velocity * period per cycle, so a
-///    step from the control loop becomes a ramp),
-///  - a watchdog: targets older than `command_timeout_s` are stale; the joints then hold the
-///    last measured position (velocity commands drop to zero) until fresh targets arrive.
+struct JointLoopParams {
+  /// Targets older than this are stale: the joints hold until fresh targets arrive.
+  double command_timeout_s = 0.1;
+  /// A joint reading older than this is stale: no joint moves until readings are fresh again.
+  double feedback_timeout_s = 0.02;
+  /// activate() asks every drive to enable (deactivate() always quick-stops them).
+  bool enable_on_activate = true;
+};
+
+/// The fast loop next to the hardware (1 kHz by default). Each cycle, in this order:
+///  1. read() every group: per-joint states, stamps, drive states, error codes;
+///  2. safety: a joint whose reading is older than feedback_timeout_s is flagged kJointStale;
+///     kJointFault and kJointCommLost are latched until a fault reset; while anything is latched
+///     or stale the loop holds every joint (the last target sent, velocity 0) and never sends
+///     motion;
+///  3. per joint: position limits (clamped; NaN holds), the velocity limit as a ramp (a position
+///     target moves at most max_velocity * period per cycle), and a watchdog (targets older than
+///     command_timeout_s hold the joints);
+///     a joint that is not operation enabled is sent its measured position, and the first
+///     target after it becomes enabled is exactly its measured position (enabling never jumps);
+///  4. write() every group, then sync() every group (a CAN group sends SYNC here).
+/// The returned status is the most severe of the cycle's (hal::worst), never the last one seen.
 /// Joint order is the concatenation of the groups' joint lists.
 class JointLoop final : public hal::Loop {
  public:
   JointLoop(std::vector<hal::JointGroup*> groups, hal::SeqlockChannel<JointTargetFrame>& targets,
-            hal::SeqlockChannel<JointStateFrame>& states, double command_timeout_s);
+            hal::SeqlockChannel<JointStateFrame>& states, JointLoopParams params);
 
   const std::string& name() const override { return name_; }
   /// Checks the joint count fits kMaxJoints; sizes the scratch buffers. Throws on a bad setup.
   void configure() override;
-  /// Reads once so the first targets hold the current pose.
+  /// Reads once so the first targets hold the current pose; requests enable if configured.
   void activate() override;
   hal::Status update(const hal::LoopTick& tick) noexcept override;
+  /// Quick-stops every drive.
+  void deactivate() noexcept override;
+
+  /// Asks every joint for a lifecycle transition, applied at the start of the next cycle.
+  /// kFaultReset also clears the loop's latched bits once no drive reports a fault; an enable
+  /// asked together with it is sent only then (a drive takes one request at a time).
+  /// Thread-safe, wait-free (any thread: the decision layer, a console, a test).
+  void request(hal::DriveRequest request) noexcept;
 
   int joint_count() const { return joint_count_; }
   /// Cycles in which the watchdog held the joints because targets were stale.
-  std::uint64_t stale_cycles() const { return stale_cycles_; }
+  std::uint64_t stale_cycles() const { return stale_cycles_.load(std::memory_order_relaxed); }
+  /// Cycles held because a fault or lost joint was latched, or feedback was stale.
+  std::uint64_t fault_hold_cycles() const {
+    return fault_hold_cycles_.load(std::memory_order_relaxed);
+  }
+  std::uint64_t feedback_stale_cycles() const {
+    return feedback_stale_cycles_.load(std::memory_order_relaxed);
+  }
 
  private:
+  void apply_requests(std::uint32_t pending) noexcept;
+  hal::Status read_groups(std::int64_t now_ns) noexcept;
+  void forward(hal::DriveRequest request) noexcept;
+
   std::string name_ = "joint";
   std::vector<hal::JointGroup*> groups_;
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<JointStateFrame>& states_;
-  double command_timeout_s_;
+  JointLoopParams params_;
   int joint_count_ = 0;
   std::vector<hal::JointLimits> limits_;
   std::vector<hal::JointState> state_scratch_;
   std::vector<hal::JointCommand> command_scratch_;
-  std::vector<double> last_position_target_;  // What was sent last cycle, for the rate limit.
+  std::vector<double> last_position_target_;  // What was sent last cycle, for the ramp and hold.
+  std::vector<std::uint32_t> latched_bits_;   // kJointLatchingBits seen since the last reset.
+  std::vector<std::uint8_t> was_enabled_;
+  JointTargetFrame targets_frame_{};  // The last clean copy of the targets.
   JointStateFrame state_frame_{};
-  std::uint64_t stale_cycles_ = 0;
+  std::atomic<std::uint32_t> pending_requests_{0};  // Bit per hal::DriveRequest.
+  bool reset_requested_ = false;     // Clear the latches once the drives report no fault.
+  bool enable_after_reset_ = false;  // Then ask them to enable.
+  std::atomic<std::uint64_t> stale_cycles_{0};
+  std::atomic<std::uint64_t> fault_hold_cycles_{0};
+  std::atomic<std::uint64_t> feedback_stale_cycles_{0};
 };
 
 }  // namespace cambio::control

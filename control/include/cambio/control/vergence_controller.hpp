@@ -1,19 +1,21 @@
 #pragma once
 
-#include <cstdint>
+#include "cambio/hal/eye.hpp"
 
 namespace cambio::control {
 
-enum class Eye : std::uint8_t { kLeft, kRight };
-
+/// The controller's settings. No tuning defaults here: they come from the experiment file
+/// (config::VergenceTaskConfig holds the defaults for keys it leaves out, and apps/ copies them
+/// in). The zeros below are refused by the controller, so a field left unset cannot pass.
 struct VergenceParams {
-  Eye verging_eye = Eye::kRight;  ///< The other eye is dominant: it keeps its fixation point.
-  double focal_px = 0.0;          ///< Focal length of the verging eye (pixels).
+  /// The other eye is dominant: it keeps its fixation point.
+  hal::Eye verging_eye = hal::Eye::kRight;
+  double focal_px = 0.0;  ///< Focal length of the verging eye (pixels).
   /// Fraction of the measured angular error corrected per new measurement (0, 1]. Below 1 the
   /// loop stays stable despite the camera-to-measurement dead time.
-  double gain = 0.5;
-  double min_confidence = 0.3;  ///< Measurements below this are ignored (untextured targets).
-  double max_step_rad = 0.05;   ///< Largest correction per measurement.
+  double gain = 0.0;
+  double min_confidence = 0.0;  ///< Measurements below this are ignored (untextured targets).
+  double max_step_rad = 0.0;    ///< Largest correction per measurement (> 0).
 };
 
 /// One disparity measurement at the retina centres (level-0 pixels, x_left − x_right).

@@ -47,6 +47,7 @@ class VergenceLoop final : public hal::Loop {
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<VergenceStatus> status_;
   VergenceStatus current_;
+  perception::SsmSummary summary_{};
   std::uint64_t last_sequence_ = 0;
 };
 

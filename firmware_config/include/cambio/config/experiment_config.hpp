@@ -6,6 +6,7 @@
 
 #include "cambio/config/map_reader.hpp"
 #include "cambio/config/rig_config.hpp"
+#include "cambio/hal/eye.hpp"
 
 namespace cambio::config {
 
@@ -20,11 +21,11 @@ enum class ControlTask : std::uint8_t {
   kVergence,  ///< The paper's experiment 1: verge one eye onto the dominant eye's fixation.
 };
 
-enum class EyeSide : std::uint8_t { kLeft, kRight };
-
-/// The vergence controller's settings (control/vergence_controller.hpp).
+/// The vergence controller's settings (control/vergence_controller.hpp). The member initialisers
+/// are the defaults for keys an experiment file leaves out, and the only copy of them: apps/ maps
+/// these onto control::VergenceParams, which has none of its own.
 struct VergenceTaskConfig {
-  EyeSide verging_eye = EyeSide::kRight;
+  hal::Eye verging_eye = hal::Eye::kRight;
   double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.
   double min_confidence = 0.3;  ///< Ignore measurements below this.
   double max_step_rad = 0.05;   ///< Largest correction per measurement.

@@ -192,4 +192,10 @@ class ConfigDocument {
 /// Levenshtein distance, for "did you mean" suggestions.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 
+/// The "did you mean" for `word`: the first of the `candidates` nearest to it by edit_distance,
+/// if at most `max_distance` edits away; by default max(2, |word| / 4), a plausible typo.
+std::optional<std::string> closest_name(std::string_view word,
+                                        const std::vector<std::string>& candidates,
+                                        std::optional<std::size_t> max_distance = std::nullopt);
+
 }  // namespace cambio::config

@@ -113,6 +113,11 @@ struct LoopConfig {
   int priority = 0;  ///< SCHED_FIFO priority 1..99; 0 = normal scheduling.
   int cpu = -1;      ///< CPU to pin the loop's thread to; -1 = any.
   OverrunPolicy overrun = OverrunPolicy::kSkip;
+  /// Joint loop only (0 elsewhere): targets older than this are stale and the joints hold.
+  double command_timeout_s = 0.0;
+  /// Joint loop only (0 elsewhere): a joint reading older than this is flagged stale and the
+  /// loop sends no motion until fresh readings arrive.
+  double feedback_timeout_s = 0.0;
 };
 
 struct SimConfig {

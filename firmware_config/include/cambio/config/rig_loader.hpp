@@ -37,8 +37,4 @@ int can_frame_worst_case_bits(int data_bytes);
 double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus);
 inline constexpr double kMaxCanBusLoad = 0.9;
 
-/// Directory of the shipped YAML: the install prefix's share/cambio/firmware_config when the
-/// program is installed, else the source tree's firmware_config/. Overridden by $CAMBIO_CONFIG_DIR.
-std::string shipped_config_dir();
-
 }  // namespace cambio::config

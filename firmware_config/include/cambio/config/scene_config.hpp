@@ -103,8 +103,4 @@ SceneConfig load_scene_from_string(const std::string& yaml, const std::string& n
                                    const std::vector<ConfigOverride>& overrides = {});
 SceneConfig read_scene(MapReader root, const std::string& file);
 
-/// Resolves a scene argument: an existing path as given, else `<shipped_config_dir>/scenes/<arg>`
-/// with ".yaml" appended when missing (so `--scene vergence` works).
-std::string resolve_scene_path(const std::string& scene_argument);
-
 }  // namespace cambio::config

@@ -11,20 +11,21 @@
 
 #include "cambio/hal/camera.hpp"
 #include "cambio/hal/clock.hpp"
+#include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/joint_group.hpp"
+#include "cambio/hal/joint_state_tap.hpp"
 #include "cambio/hal/loop.hpp"
 #include "cambio/hal/touch_sensor.hpp"
 
-namespace cambio::config {
-struct RigConfig;  // Defined in firmware_config; the HAL only passes it through.
-}
-
 namespace cambio::hal {
 
-/// Options that are not part of the rig (they come from the experiment or the command line).
-struct BackendOptions {
-  std::string scene_path;  ///< Sim: the scene YAML to load around the robot.
-  std::uint64_t seed = 0;  ///< Sim: seeds every noise source.
+/// What every backend of a run is given besides the hardware description.
+struct BackendContext {
+  /// The run's one clock, owned by the executor (CLOCK_MONOTONIC under the realtime executor,
+  /// simulated time under lockstep). Every backend stamps with it, so a rig mixing sim cameras
+  /// with CAN joints has one time base.
+  Clock* clock = nullptr;
+  std::uint64_t seed = 0;  ///< Seeds every noise source (sim).
   bool realtime = false;   ///< Paced to the wall clock (realtime executor) or lockstep.
 };
 
@@ -36,41 +37,69 @@ struct BackendLoop {
   int priority = 0;  ///< SCHED_FIFO priority under the realtime executor; 0 = normal.
 };
 
-/// One backend instance serves every device of the rig that names it (the sim's world is shared
-/// by its joint groups and cameras; a CAN backend shares its buses). Built at configure time;
-/// its make_* functions may allocate and throw std::runtime_error with a clear message.
-class Backend {
- public:
-  virtual ~Backend() = default;
-  virtual std::unique_ptr<JointGroup> make_joint_group(std::string_view group_name) = 0;
-  virtual std::unique_ptr<Camera> make_camera(std::string_view camera_name) = 0;
-  virtual std::unique_ptr<TouchSensor> make_touch_sensor(std::string_view sensor_name) = 0;
-  /// The clock every loop must use with this backend (sim time, or CLOCK_MONOTONIC).
-  virtual Clock& clock() = 0;
-  /// Loops the backend needs run (the sim's physics step, a CAN SYNC producer), with their
-  /// rates. The executor runs them with the application's loops; the backend keeps ownership.
-  virtual std::vector<BackendLoop> loops() = 0;
-};
-
-/// Thrown when a rig names a backend this build cannot make.
+/// Thrown when a rig names a backend this build cannot make, or asks a backend for something it
+/// cannot do.
 class BackendUnavailable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
+/// One backend instance serves every device of the rig that names it (the sim's world is shared
+/// by its joint groups and cameras; a CAN backend shares its buses). Lifecycle, called by the
+/// application from one thread, outside the loops:
+///   make_*() / follow_group()  devices, while building the run (may allocate and throw)
+///   configure()                after every device exists: write drive parameters, open buses
+///                              (may throw std::runtime_error with a clear message)
+///   activate()                 start buses and streams; drives are enabled by the joint loop's
+///                              requests, at their measured positions
+///   deactivate()               quick stop and disable every drive, stop the streams; also runs
+///                              when a signal stops the run. noexcept, idempotent.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  virtual std::unique_ptr<JointGroup> make_joint_group(std::string_view group_name) = 0;
+  virtual std::unique_ptr<Camera> make_camera(std::string_view camera_name) = 0;
+  virtual std::unique_ptr<TouchSensor> make_touch_sensor(std::string_view sensor_name) = 0;
+
+  /// A group of the rig that another backend drives: this backend's model of those joints
+  /// follows the positions `leader` reports (the sim's head follows CAN drives, so its cameras
+  /// see what the drives did). `leader` outlives the backend's loops. Throws BackendUnavailable
+  /// if this backend cannot follow.
+  virtual void follow_group(const JointGroupInfo& group, const JointStateSource& leader) {
+    (void)leader;
+    throw BackendUnavailable("this backend cannot follow joint group '" + group.name +
+                             "' driven by backend '" + group.backend + "'");
+  }
+
+  virtual void configure() {}
+  virtual void activate() {}
+  virtual void deactivate() noexcept {}
+
+  /// Loops the backend needs run (the sim's physics step), with their rates. The executor runs
+  /// them with the application's loops; the backend keeps ownership.
+  virtual std::vector<BackendLoop> loops() = 0;
+};
+
 /// Builds backends by the name the rig file gives (`backend: sim`, `backend: socketcan`).
-/// Each backend library registers its maker; a name that is known but not built in, or unknown,
+/// Each backend library registers its maker; a name that is declared but not built, or unknown,
 /// is refused with a message that says which names are available.
 class BackendFactory {
  public:
-  using Maker =
-      std::function<std::unique_ptr<Backend>(const config::RigConfig&, const BackendOptions&)>;
+  using Maker = std::function<std::unique_ptr<Backend>(const HardwareInfo&, const BackendContext&)>;
 
   void register_backend(std::string name, Maker maker) {
+    unbuilt_.erase(name);
     makers_[std::move(name)] = std::move(maker);
   }
 
-  bool has(std::string_view name) const { return makers_.find(std::string(name)) != makers_.end(); }
+  /// A backend the rig format knows but this build does not carry, and why (refused by make()
+  /// with that reason).
+  void declare_unbuilt(std::string name, std::string reason) {
+    if (!has(name)) unbuilt_[std::move(name)] = std::move(reason);
+  }
+
+  bool has(std::string_view name) const { return makers_.find(name) != makers_.end(); }
 
   std::vector<std::string> available() const {
     std::vector<std::string> names;
@@ -79,29 +108,33 @@ class BackendFactory {
   }
 
   /// Throws BackendUnavailable naming `requested_by` (e.g. "joint group 'head'").
-  std::unique_ptr<Backend> make(std::string_view name, const config::RigConfig& rig,
-                                const BackendOptions& options,
+  std::unique_ptr<Backend> make(std::string_view name, const HardwareInfo& hardware,
+                                const BackendContext& context,
                                 std::string_view requested_by) const {
-    const auto it = makers_.find(std::string(name));
+    const auto it = makers_.find(name);
     if (it == makers_.end()) {
       std::string known;
       for (const auto& available_name : available()) {
         known += known.empty() ? available_name : ", " + available_name;
       }
-      std::string why = is_planned(name) ? "is not built yet in this version of Câmbio"
-                                         : "is not a known backend";
+      const auto unbuilt = unbuilt_.find(name);
+      const std::string why =
+          unbuilt != unbuilt_.end()
+              ? "is not built in this version of Câmbio (" + unbuilt->second + ")"
+              : "is not a known backend";
       throw BackendUnavailable("backend '" + std::string(name) + "' requested by " +
                                std::string(requested_by) + " " + why +
                                " (available: " + (known.empty() ? "none" : known) + ")");
     }
-    return it->second(rig, options);
+    if (context.clock == nullptr) {
+      throw std::invalid_argument("backend '" + std::string(name) + "': no clock given");
+    }
+    return it->second(hardware, context);
   }
-
-  /// Backends the rig format accepts, built in or not.
-  static bool is_planned(std::string_view name) { return name == "sim" || name == "socketcan"; }
 
  private:
   std::map<std::string, Maker, std::less<>> makers_;
+  std::map<std::string, std::string, std::less<>> unbuilt_;
 };
 
 }  // namespace cambio::hal

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <type_traits>
 
+#include "cambio/hal/torn_reads.hpp"
+
 namespace cambio::hal {
 
 /// Latest-value channel for small trivially copyable values (joint targets, a disparity): one
@@ -53,14 +55,23 @@ class SeqlockChannel {
     return true;
   }
 
-  /// Retries until a consistent copy is read. Lock-free: it only spins while the writer is in
-  /// the middle of a (bounded, short) write. Returns the version (number of writes so far).
-  std::uint64_t read(T& out) const noexcept {
-    std::uint64_t version = 0;
-    while (!try_read(out, &version)) {
+  /// Tries up to kReadAttempts times for a consistent copy. Never waits on the writer: under
+  /// SCHED_FIFO with both threads pinned to one CPU a preempted writer cannot finish while the
+  /// reader runs, so an unbounded retry would spin forever. On failure `out` is left untouched
+  /// (the caller keeps its last good value) and the torn read is counted on this thread
+  /// (thread_torn_read_count()). Returns true if `out` now holds the newest value. Wait-free;
+  /// real-time safe.
+  bool read(T& out, std::uint64_t* version = nullptr) const noexcept {
+    for (int attempt = 0; attempt < kReadAttempts; ++attempt) {
+      if (try_read(out, version)) return true;
     }
-    return version;
+    count_torn_read();
+    return false;
   }
+
+  /// A write copies a few cache lines; a reader on another CPU that sees it in progress this
+  /// many times in a row is racing a writer that is not running.
+  static constexpr int kReadAttempts = 64;
 
   /// Number of writes so far. Real-time safe.
   std::uint64_t version() const noexcept { return sequence_.load(std::memory_order_acquire) / 2; }

@@ -14,6 +14,29 @@ enum class [[nodiscard]] Status : std::uint8_t{
     kFault,      ///< The device reports a fault; see its status bits.
 };
 
+/// How bad a status is, for merging the results of several devices: a loop reports the worst,
+/// never the last one seen. kOk < kNoNewData < kStale < kRejected < kFault.
+constexpr int severity(Status status) {
+  switch (status) {
+    case Status::kOk:
+      return 0;
+    case Status::kNoNewData:
+      return 1;
+    case Status::kStale:
+      return 2;
+    case Status::kRejected:
+      return 3;
+    case Status::kFault:
+      return 4;
+  }
+  return 4;
+}
+
+/// The more severe of two statuses.
+constexpr Status worst(Status a, Status b) {
+  return severity(b) > severity(a) ? b : a;
+}
+
 constexpr std::string_view to_string(Status status) {
   switch (status) {
     case Status::kOk:

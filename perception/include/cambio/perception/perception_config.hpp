@@ -88,7 +88,8 @@ SsmConfig read_ssm_config(config::MapReader& root);
 SsmConfig load_ssm_config(const std::string& path,
                           const std::vector<config::ConfigOverride>& overrides);
 
-/// The shipped defaults file (source tree or installed prefix), empty if neither exists.
+/// The shipped defaults file, perception/ssm.yaml (see config::find_shipped_config); empty if
+/// there is none.
 std::string default_ssm_config_path();
 
 }  // namespace cambio::perception

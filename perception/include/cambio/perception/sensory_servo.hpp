@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "cambio/hal/eye.hpp"
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/status.hpp"
 #include "cambio/perception/disparity_estimator.hpp"
@@ -16,8 +17,6 @@
 #include "cambio/perception/retina.hpp"
 
 namespace cambio::perception {
-
-enum class Eye : std::uint8_t { kLeft = 0, kRight = 1 };
 
 /// What the decision layer asks the SSM for (paper Section 4: "building feature maps as needed").
 struct FeatureRequest {
@@ -92,7 +91,7 @@ class SensoryServo {
 
   const SsmConfig& config() const { return config_; }
   const OperatorBank& operators() const { return bank_; }
-  const Retina& retina(Eye eye) const { return *retinas_[static_cast<std::size_t>(eye)]; }
+  const Retina& retina(hal::Eye eye) const { return *retinas_[static_cast<std::size_t>(eye)]; }
   int moments_map() const { return moments_map_; }
   int image_width_px() const { return image_width_; }
   int image_height_px() const { return image_height_; }

@@ -7,6 +7,7 @@
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/loop.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
+#include "cambio/hal/stereo_frame.hpp"
 #include "cambio/hal/triple_buffer.hpp"
 #include "cambio/perception/sensory_servo.hpp"
 
@@ -19,23 +20,32 @@ struct SsmRequest {
   FeatureRequest features;
 };
 
-/// The SSM as an information server (paper Section 4): a perception loop that grabs both
-/// cameras through the HAL, builds the retinas at the requested fixation points, computes the
-/// requested features and publishes them on latest-value channels. configure() allocates
-/// everything; update() never allocates, locks or blocks beyond the cameras' grab().
+/// The SSM as an information server (paper Section 4): a perception loop that takes the newest
+/// stereo pair the camera loop published, builds the retinas at the requested fixation points,
+/// computes the requested features and publishes them on latest-value channels. configure()
+/// allocates everything; update() never allocates, locks or blocks.
 class SsmServer final : public hal::Loop {
  public:
-  SsmServer(std::string name, hal::Camera& left, hal::Camera& right, SsmConfig config);
+  /// `pairs`: the camera loop's stereo channel (this loop is its only reader). `left`/`right`:
+  /// the two cameras' descriptions (sizes, formats, rate).
+  SsmServer(std::string name, hal::TripleBuffer<hal::StereoFrame>& pairs,
+            const hal::CameraInfo& left, const hal::CameraInfo& right, SsmConfig config);
   ~SsmServer() override;
 
   const std::string& name() const override { return name_; }
-  /// Sizes the images from the cameras' info and builds the pipeline. Throws
-  /// std::invalid_argument if the cameras differ in size or the config is inconsistent.
+  /// Builds the pipeline. Throws std::invalid_argument if the cameras differ in size or the
+  /// config is inconsistent.
   void configure() override;
   void activate() override;
-  /// kNoNewData when neither camera had a new frame; kRejected when not configured or a grab
-  /// was refused. Real-time safe.
+  /// kNoNewData when no new pair arrived; kRejected when not configured, when a pair's images
+  /// do not match the cameras, or when its two stamps differ by more than half a camera period
+  /// (counted in mismatched_pairs(); the pair is not used). Real-time safe.
   hal::Status update(const hal::LoopTick& tick) noexcept override;
+
+  /// Pairs refused because their eyes' stamps were more than half a camera period apart.
+  std::uint64_t mismatched_pairs() const { return mismatched_pairs_; }
+  /// Largest stamp difference accepted within a pair (ns): half the camera period.
+  std::int64_t max_stamp_skew_ns() const { return max_stamp_skew_ns_; }
 
   /// Written by the decision layer (one writer), read here each cycle.
   hal::SeqlockChannel<SsmRequest>& requests() { return requests_; }
@@ -46,11 +56,13 @@ class SsmServer final : public hal::Loop {
 
  private:
   std::string name_;
-  hal::Camera& left_camera_;
-  hal::Camera& right_camera_;
+  hal::TripleBuffer<hal::StereoFrame>& pairs_;
+  hal::CameraInfo left_info_;
+  hal::CameraInfo right_info_;
   SsmConfig config_;
-  hal::Image left_image_;
-  hal::Image right_image_;
+  std::int64_t max_stamp_skew_ns_ = 0;
+  std::uint64_t mismatched_pairs_ = 0;
+  SsmRequest request_{};  // The last clean request (a torn read keeps it).
   std::unique_ptr<SensoryServo> servo_;
   std::unique_ptr<hal::TripleBuffer<SsmFrame>> frames_;
   hal::SeqlockChannel<SsmRequest> requests_;

@@ -16,7 +16,7 @@ class EglContext {
   EglContext& operator=(const EglContext&) = delete;
 
   /// Makes the context current on the calling thread if it is not already. A context is
-  /// current on one thread at a time: callers serialise (the renderer holds a mutex).
+  /// current on one thread at a time: callers serialise (Renderer::Lease).
   void make_current();
   /// Unbinds the context from the calling thread (if bound there), so another thread can take
   /// it.

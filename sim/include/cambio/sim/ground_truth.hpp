@@ -19,7 +19,8 @@ namespace cambio::sim {
 
 /// The world's true state, for tests and evaluation only: control and perception never see it
 /// (it is not part of the HAL). Reads the newest snapshot the physics loop published. Not
-/// real-time safe; thread-safe against the loops (each call takes the snapshot it reads).
+/// real-time safe; thread-safe against the loops (each call takes the snapshot it reads) and
+/// between evaluation threads.
 class GroundTruth {
  public:
   GroundTruth(const World& world, hal::TripleBuffer<WorldSnapshot>& truth_snapshots);
@@ -40,28 +41,24 @@ class GroundTruth {
 
   /// Renders a view of the newest state: a rig camera at its intrinsics (width, height 0) or
   /// any MuJoCo camera (the overview) at the given size. Writes top-row-first RGB into `rgb`
-  /// (resized if needed) and, if `depth_m` is given, metric depth along the optical axis.
-  /// Needs the renderer (set_renderer()).
+  /// (resized if needed, stamped with the state's time) and, if `depth_m` is given, metric depth
+  /// along the optical axis. Needs the renderer (set_renderer_provider()); waits while a camera
+  /// holds it, and a camera that finds it held here skips that grab.
   void render(const std::string& camera_name, int width_px, int height_px, const ViewOptions& view,
               hal::Image& rgb, std::vector<float>* depth_m);
 
-  /// Where render() gets the renderer (built on first use, so physics-only users need no GL)
-  /// and the snapshots it renders from.
-  void set_renderer_provider(std::function<Renderer&()> provider,
-                             hal::TripleBuffer<WorldSnapshot>* render_snapshots) {
+  /// Where render() gets the renderer (built on first use, so physics-only users need no GL).
+  void set_renderer_provider(std::function<Renderer&()> provider) {
     renderer_provider_ = std::move(provider);
-    render_snapshots_ = render_snapshots;
   }
 
  private:
   const World& world_;
   hal::TripleBuffer<WorldSnapshot>& snapshots_;
-  std::mutex mutex_;
+  std::mutex mutex_;  ///< Evaluation threads only; no loop takes it.
   mjData_* data_ = nullptr;
-  std::uint64_t step_ = 0;
-  std::int64_t stamp_ns_ = 0;
+  WorldSnapshot current_;  ///< The snapshot data_ shows (the world at construction until one).
   std::function<Renderer&()> renderer_provider_;
-  hal::TripleBuffer<WorldSnapshot>* render_snapshots_ = nullptr;
   std::vector<std::uint8_t> rgb_bottom_up_;
   std::vector<float> depth_bottom_up_;
 };

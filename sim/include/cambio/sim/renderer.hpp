@@ -1,8 +1,8 @@
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "cambio/sim/egl_context.hpp"
@@ -28,10 +28,28 @@ struct ViewOptions {
 
 /// MuJoCo's OpenGL renderer on a headless EGL context, with its own copy of the world state
 /// (a private mjData filled from WorldSnapshot), so it never reads the physics loop's data.
-/// One per world, shared by that world's cameras and ground truth: hold lock() around
-/// set_state() and render() (one GL context serves one thread at a time).
+/// One per world, shared by that world's cameras and ground truth. One GL context serves one
+/// thread at a time: hold a Lease around set_state() and render().
 class Renderer {
  public:
+  /// The calling thread's exclusive use of the renderer, for the lease's lifetime. Not a lock:
+  /// kTry gives up at once when another thread holds the renderer (the camera loop, which must
+  /// never wait); kWait spins, yielding, until it is free (evaluation code outside the loops).
+  class Lease {
+   public:
+    enum class Mode : std::uint8_t { kTry, kWait };
+    Lease(Renderer& renderer, Mode mode) noexcept;
+    ~Lease();
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    /// True if this lease holds the renderer.
+    explicit operator bool() const noexcept { return held_; }
+
+   private:
+    Renderer& renderer_;
+    bool held_ = false;
+  };
+
   /// Allocates everything (GL context, framebuffers, textures, scene). Throws
   /// std::runtime_error or MujocoError.
   explicit Renderer(const World& world);
@@ -39,12 +57,10 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  std::mutex& mutex() { return mutex_; }
-
-  /// Copies `snapshot` into the render state and runs kinematics. Caller holds mutex().
+  /// Copies `snapshot` into the render state and runs kinematics. Caller holds a Lease.
   /// Real-time safe.
   void set_state(const WorldSnapshot& snapshot) noexcept;
-  /// Step count of the snapshot last set (so cameras can tell whether they saw it).
+  /// Step count of the snapshot last set (so a camera can tell whether it must set its own).
   std::uint64_t state_step() const { return state_step_; }
   std::int64_t state_stamp_ns() const { return state_stamp_ns_; }
   /// False until the first set_state() (the renderer then shows the world at construction).
@@ -52,13 +68,14 @@ class Renderer {
 
   /// Renders MuJoCo camera `camera_id` at width x height into the offscreen buffer and reads
   /// it back: `rgb` (3 bytes per pixel) and/or `depth` (metres along the optical axis), both
-  /// bottom row first as OpenGL gives them; either may be null. Caller holds mutex(). Returns
+  /// bottom row first as OpenGL gives them; either may be null. Caller holds a Lease. Returns
   /// false if MuJoCo reported an error. Real-time safe (no allocation); takes milliseconds.
   bool render(int camera_id, int width_px, int height_px, const ViewOptions& view,
               std::uint8_t* rgb, float* depth) noexcept;
 
   /// The raw steps MuJoCo takes for one view (scene update, render, read back RGB), with the
-  /// eye defaults: the reference `cambio sim-bench` compares the camera pipeline with.
+  /// eye defaults: the reference `cambio sim-bench` compares the camera pipeline with. Caller
+  /// holds a Lease.
   void render_raw_reference(int camera_id, int width_px, int height_px, std::uint8_t* rgb);
 
   const World& world() const { return world_; }
@@ -75,7 +92,7 @@ class Renderer {
 
   const World& world_;
   EglContext egl_;
-  std::mutex mutex_;
+  std::atomic_flag busy_;  ///< Set while a Lease holds the renderer.
   mjData_* data_ = nullptr;
   std::unique_ptr<mjvScene_> scene_;
   std::unique_ptr<mjvOption_> option_;

@@ -75,6 +75,19 @@ class ServoModel {
   /// Advances one step. Real-time safe.
   void step() noexcept;
 
+  /// The drive stops following commands (quick stop, fault reaction, or not enabled): queued
+  /// commands are dropped and the profile decelerates at max_acceleration_rad_s2 to a standstill,
+  /// where it holds (a drive's quick-stop ramp). Real-time safe.
+  void brake_to_stop() noexcept;
+  /// The drive is enabled where the joint is: `measured_position_rad` (clamped to the limits)
+  /// becomes the profile's position at rest and the target, queued commands are dropped, so
+  /// enabling never moves the joint towards an old target. Real-time safe.
+  void hold_at(double measured_position_rad) noexcept;
+  /// True when the profile stands still (a braking drive has stopped).
+  bool at_rest() const { return state_.profile_velocity_rad_s == 0.0; }
+  /// Effort feed-forward of the command being executed (after the dead time), N m.
+  double effort_feedforward_nm() const { return state_.active.effort_feedforward_nm; }
+
   /// The position the servo drives the joint to (truth for kinematic joints; the reference of
   /// the physics PD for the others).
   double output_position_rad() const { return state_.output_position_rad; }
@@ -91,6 +104,8 @@ class ServoModel {
   double quantise(double position_rad) const noexcept;
 
  private:
+  /// Replaces everything queued (pending, the delay line, the active command) by `command`.
+  void replace_queue(const hal::JointCommand& command) noexcept;
   void advance_position_profile(double target_rad) noexcept;
   void advance_velocity_profile(double velocity_rad_s) noexcept;
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cambio/config/rig_config.hpp"
@@ -57,8 +58,8 @@ class World {
   /// In rig order (rig().joints).
   const std::vector<JointIndex>& joints() const { return joints_; }
   const std::vector<ObjectIndex>& objects() const { return objects_; }
-  /// Index into joints(), or -1.
-  int find_joint(const std::string& joint_name) const;
+  /// Index into joints(), or -1. No allocation.
+  int find_joint(std::string_view joint_name) const;
   /// MuJoCo camera id of a rig camera or the overview; throws std::out_of_range if unknown.
   int camera_id(const std::string& camera_name) const;
   /// MuJoCo body ids of a touch sensor's end effector: its link, the generated mirrored finger

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace cambio::runtime {
 
 /// A fixed-size latency histogram: 1 µs buckets up to 10 ms, then an overflow count. Recording is
@@ -39,16 +41,28 @@ struct LoopStatistics {
   std::uint64_t skipped_cycles = 0;  ///< Deadlines dropped by the skip overrun policy.
   std::uint64_t failed_updates = 0;  ///< update() returned something other than kOk/kNoNewData.
   std::uint64_t allocations = 0;     ///< Heap allocations made by update() calls.
-  LatencyHistogram wakeup_latency;   ///< now - deadline at the start of each update.
-  LatencyHistogram execution_time;   ///< Duration of each update.
+  /// The loop declared that its update() allocates (hal::Loop::allocates_in_update): its
+  /// allocations are reported but exempt from the zero-allocation gate.
+  bool allocation_exempt = false;
+  /// Latest-value reads that gave up on a writer caught mid-write (hal::SeqlockChannel::read),
+  /// the loop keeping its last good value instead.
+  std::uint64_t torn_reads = 0;
+  /// The loop's last reported fault (hal::Loop::fault_message) and how many it reported.
+  std::string fault_message;
+  std::uint64_t faults = 0;
+  LatencyHistogram wakeup_latency;  ///< now - deadline at the start of each update.
+  LatencyHistogram execution_time;  ///< Duration of each update.
   bool realtime_priority_granted = false;
   bool cpu_affinity_granted = false;
 };
 
+/// True unless a loop that did not declare allocations allocated in update().
+bool passes_allocation_gate(const LoopStatistics& stats);
+
 /// Human-readable table of several loops' statistics.
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count);
-/// One JSON object for a loop: name, rate_hz, cycles, p50_us, p99_us, p999_us, max_us, overruns,
-/// allocations_per_cycle, execution p50/p99/max.
-std::string statistics_json(const LoopStatistics& stats);
+/// One JSON object for a loop: name, rate_hz, cycles, wake-up p50_us, p99_us, p999_us, max_us,
+/// overruns, allocations (per cycle, total, exempt), torn_reads, faults, execution p50/p99/max.
+nlohmann::ordered_json statistics_json(const LoopStatistics& stats);
 
 }  // namespace cambio::runtime

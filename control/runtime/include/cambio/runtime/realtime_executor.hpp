@@ -5,38 +5,45 @@
 #include <string>
 #include <vector>
 
-#include "cambio/hal/clock.hpp"
+#include "cambio/hal/monotonic_clock.hpp"
+#include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/runtime/scheduled_loop.hpp"
 
 namespace cambio::runtime {
 
 struct RealtimeOptions {
-  bool lock_memory = false;  ///< mlockall(MCL_CURRENT | MCL_FUTURE) before the loops start.
+  bool lock_memory = false;    ///< mlockall(MCL_CURRENT | MCL_FUTURE) before the loops start.
+  bool print_warnings = true;  ///< Also print warnings() to stderr as they happen.
 };
 
 /// One thread per loop, each sleeping with clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME) on
-/// absolute deadlines, with the loop's SCHED_FIFO priority and CPU affinity where the system
-/// grants them (a warning, not a failure, where it refuses). Stops when `stop` becomes true
-/// (e.g. set from a SIGINT handler) or when the duration elapses.
-class RealtimeExecutor {
+/// absolute deadlines of its own MonotonicClock, with the loop's SCHED_FIFO priority and CPU
+/// affinity where the system grants them (a warning, not a failure, where it refuses). Stops
+/// when `stop` becomes true (e.g. set from a SIGINT handler) or when the duration elapses.
+class RealtimeExecutor final : public Executor {
  public:
-  RealtimeExecutor(hal::Clock& clock, std::vector<ScheduledLoop> loops, RealtimeOptions options);
+  explicit RealtimeExecutor(std::vector<ScheduledLoop> loops = {}, RealtimeOptions options = {});
 
+  hal::Clock& clock() override { return clock_; }
+  void add_loop(ScheduledLoop loop) override;
   /// Runs configure() and activate() of each loop on its own thread, then the cycles, until
-  /// `stop` is set or `duration_ns` (<= 0: no limit) has passed; then deactivate(). Returns the
-  /// warnings (refused priority, affinity, mlockall), also printed to stderr if `print_warnings`.
-  /// Rethrows the first exception a loop's configure() threw, after stopping the others.
-  std::vector<std::string> run(const std::atomic<bool>& stop, std::int64_t duration_ns,
-                               bool print_warnings = true);
+  /// `stop` is set or `duration_ns` (<= 0: no limit) has passed; then deactivate(). The calling
+  /// thread reports progress meanwhile. Rethrows the first exception a loop's configure() or
+  /// activate() threw, after stopping the others.
+  std::int64_t run(const std::atomic<bool>& stop, std::int64_t duration_ns,
+                   const Progress& progress = {}) override;
+  const std::vector<LoopStatistics>& statistics() const override { return stats_; }
 
-  const std::vector<LoopStatistics>& statistics() const { return stats_; }
+  /// Refused priority, affinity or mlockall of the last run.
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
-  hal::Clock& clock_;
+  hal::MonotonicClock clock_;
   std::vector<ScheduledLoop> loops_;
   RealtimeOptions options_;
   std::vector<LoopStatistics> stats_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace cambio::runtime

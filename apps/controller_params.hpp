@@ -1,0 +1,30 @@
+#pragma once
+
+#include "cambio/config/experiment_config.hpp"
+#include "cambio/config/rig_config.hpp"
+#include "cambio/control/joint_loop.hpp"
+#include "cambio/control/vergence_controller.hpp"
+#include "cambio/hal/hardware_info.hpp"
+#include "cambio/runtime/scheduled_loop.hpp"
+
+namespace cambio::app {
+
+/// The one place where experiment and rig settings become the parameters of the runtime and the
+/// controllers (control/ and the runtime never read configuration themselves).
+
+/// A configured loop's schedule for the executors.
+runtime::LoopSchedule schedule_of(const config::LoopConfig& loop);
+
+/// A rig loop's schedule for the executors. Throws std::runtime_error if the rig has no loop of
+/// that name.
+runtime::LoopSchedule loop_schedule(const config::RigConfig& rig, const std::string& loop_name);
+
+/// The joint loop's watchdogs from the rig's `loops.joint`.
+control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
+
+/// The vergence controller of the experiment: which eye verges, with the verging camera's focal
+/// length. Throws std::runtime_error if the rig has no stereo pair.
+control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
+                                        const hal::HardwareInfo& hardware);
+
+}  // namespace cambio::app

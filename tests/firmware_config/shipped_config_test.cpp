@@ -1,0 +1,84 @@
+// Tests of firmware_config/src/shipped_config.cpp: where the shipped YAML is found, and how a
+// command-line config argument becomes a path.
+#include "cambio/config/shipped_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+
+#include "cambio/config/rig_loader.hpp"
+
+namespace cambio::config {
+namespace {
+
+/// Sets $CAMBIO_CONFIG_DIR for one test and puts back what was there.
+class ConfigDirOverride {
+ public:
+  explicit ConfigDirOverride(const std::string& dir) {
+    if (const char* previous = std::getenv(kName)) previous_ = previous;
+    ::setenv(kName, dir.c_str(), 1);
+  }
+  ~ConfigDirOverride() {
+    if (previous_) {
+      ::setenv(kName, previous_->c_str(), 1);
+    } else {
+      ::unsetenv(kName);
+    }
+  }
+  ConfigDirOverride(const ConfigDirOverride&) = delete;
+  ConfigDirOverride& operator=(const ConfigDirOverride&) = delete;
+
+ private:
+  static constexpr const char* kName = "CAMBIO_CONFIG_DIR";
+  std::optional<std::string> previous_;
+};
+
+TEST(ShippedConfig, FromTheBuildTreeTheSourceTreeServes) {
+  if (std::getenv("CAMBIO_CONFIG_DIR") != nullptr) GTEST_SKIP() << "CAMBIO_CONFIG_DIR is set";
+  EXPECT_EQ(shipped_config_dir(), std::string(CAMBIO_SOURCE_DIR) + "/firmware_config");
+  EXPECT_EQ(find_shipped_config("perception/ssm.yaml"),
+            std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/perception/ssm.yaml");
+  EXPECT_NO_THROW(load_rig(find_shipped_config("rigs/cambio.yaml")));
+}
+
+TEST(ShippedConfig, MissingFileIsEmpty) {
+  EXPECT_EQ(find_shipped_config("rigs/no_such_rig.yaml"), "");
+}
+
+TEST(ShippedConfig, EnvironmentVariableWinsForEveryKind) {
+  const auto dir = std::filesystem::temp_directory_path() / "cambio_shipped_config_test";
+  std::filesystem::create_directories(dir / "perception");
+  std::ofstream(dir / "perception" / "ssm.yaml") << "rate_hz: 30\n";
+  const ConfigDirOverride override_dir(dir.string());
+  EXPECT_EQ(shipped_config_dir(), dir.string());
+  EXPECT_EQ(find_shipped_config("perception/ssm.yaml"), (dir / "perception" / "ssm.yaml").string());
+  EXPECT_EQ(find_shipped_config("rigs/cambio.yaml"), "");
+}
+
+TEST(ResolveConfigArgument, AnExistingPathIsTakenAsGiven) {
+  const auto dir = std::filesystem::temp_directory_path() / "cambio_shipped_config_test_path";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "cambio").string();  // Shadows the shipped rig's name.
+  std::ofstream(path) << "rig: {}\n";
+  EXPECT_EQ(resolve_config_argument("rigs", path), path);
+}
+
+TEST(ResolveConfigArgument, AShippedNameWithOrWithoutTheExtension) {
+  const std::string rig = find_shipped_config("rigs/pan_tilt.yaml");
+  ASSERT_FALSE(rig.empty());
+  EXPECT_EQ(resolve_config_argument("rigs", "pan_tilt"), rig);
+  EXPECT_EQ(resolve_config_argument("rigs", "pan_tilt.yaml"), rig);
+  EXPECT_EQ(resolve_config_argument("scenes", "vergence"),
+            find_shipped_config("scenes/vergence.yaml"));
+}
+
+TEST(ResolveConfigArgument, AnUnknownNameIsLeftForTheLoaderToReport) {
+  EXPECT_EQ(resolve_config_argument("scenes", "no_such_scene"), "no_such_scene");
+}
+
+}  // namespace
+}  // namespace cambio::config

@@ -129,7 +129,8 @@ std::optional<bool> parse_boolean(const YAML::Node& node) {
 std::string found(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Scalar:
-      return is_plain_scalar(node) && parse_number(node) ? node.Scalar() : in_quotes(node.Scalar());
+      return is_plain_scalar(node) && parse_number(node) ? echoed(node.Scalar())
+                                                         : in_quotes(node.Scalar());
     case YAML::NodeType::Sequence:
       return "a list of " + std::to_string(node.size());
     case YAML::NodeType::Map:

@@ -83,8 +83,18 @@ std::string expected(std::string_view what, const Range& range) {
   return std::string(what) + (bounds.empty() ? "" : " " + bounds);
 }
 
+/// "expected a number in [0, 1], found "x"" for a value of the wrong kind; for a number out of
+/// range, "expected a number in [0, 1] (<the range's reason>), found 2".
+std::string unexpected(std::string_view what, const Range& range, bool is_number,
+                       const std::string& found_text) {
+  std::string message = "expected " + expected(what, range);
+  if (is_number && !range.reason.empty()) message += " (" + std::string(range.reason) + ")";
+  return message + ", found " + found_text;
+}
+
 Range scaled(const Range& range, double factor) {
-  return {range.min * factor, range.max * factor, range.min_exclusive, range.max_exclusive};
+  return {range.min * factor, range.max * factor, range.min_exclusive, range.max_exclusive,
+          range.reason};
 }
 
 bool is_plain_scalar(const YAML::Node& node) {
@@ -227,7 +237,7 @@ double MapReader::number_or(std::string_view key, double fallback, Range range) 
   const auto value = parse_number(entry->value);
   if (!value || !range.contains(*value)) {
     record(mark_of(*entry), child_path(key),
-           "expected " + expected("a number", range) + ", found " + found(entry->value));
+           unexpected("a number", range, value.has_value(), found(entry->value)));
     return fallback;
   }
   return *value;
@@ -251,7 +261,7 @@ std::int64_t MapReader::integer_or(std::string_view key, std::int64_t fallback, 
   const auto value = parse_integer(entry->value);
   if (!value || !range.contains(static_cast<double>(*value))) {
     record(mark_of(*entry), child_path(key),
-           "expected " + expected("an integer", range) + ", found " + found(entry->value));
+           unexpected("an integer", range, value.has_value(), found(entry->value)));
     return fallback;
   }
   return *value;
@@ -423,7 +433,7 @@ std::vector<double> MapReader::numbers(std::string_view key, Range each) {
     const auto value = parse_number(item);
     if (!value || !each.contains(*value)) {
       record(item.Mark(), child_path(key) + "[" + std::to_string(i) + "]",
-             "expected " + expected("a number", each) + ", found " + found(item));
+             unexpected("a number", each, value.has_value(), found(item)));
       ok = false;
       continue;
     }

@@ -43,12 +43,22 @@ struct Range {
   double max = std::numeric_limits<double>::infinity();
   bool min_exclusive = false;
   bool max_exclusive = false;
+  /// Why the bounds are what they are, for a bound that is not self-evident (a size the program
+  /// allocates, a hardware limit); the message of a value outside them ends with it. Must
+  /// outlive the Range (a string literal or a constant).
+  std::string_view reason{};
 
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
   static Range non_negative() {
     return {0.0, std::numeric_limits<double>::infinity(), false, false};
   }
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  /// This range with `why` as its reason.
+  Range because(std::string_view why) const {
+    Range range = *this;
+    range.reason = why;
+    return range;
+  }
   bool contains(double value) const;
   std::string describe() const;  ///< e.g. "> 0", "in [1, 127]".
 };

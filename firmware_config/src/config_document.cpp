@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cerrno>
+#include <charconv>
+#include <limits>
 #include <system_error>
 
 #include <yaml-cpp/depthguard.h>
@@ -21,8 +23,14 @@ ConfigIssue issue_at(const std::string& file, const YAML::Mark& mark, std::strin
                      std::move(message)};
 }
 
-bool is_index(std::string_view text) {
-  return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
+/// The list index `text` names, if it is one; an index too large for size_t is past any end.
+std::optional<std::size_t> parse_index(std::string_view text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string_view::npos) {
+    return std::nullopt;
+  }
+  std::size_t index = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), index);
+  return error == std::errc{} ? index : std::numeric_limits<std::size_t>::max();
 }
 
 std::string describe_kind(const YAML::Node& node) {
@@ -186,12 +194,20 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
   const auto fail = [&](std::string message) {
     issues_->add(ConfigIssue{"--set", 0, 0, override_value.key_path, std::move(message)});
   };
+  if (override_value.value.size() > kMaxOverrideValueBytes) {
+    fail("expected a value of at most " + std::to_string(kMaxOverrideValueBytes) +
+         " bytes (a number, a list, a map of a few keys), found " +
+         std::to_string(override_value.value.size()) + " bytes");
+    return;
+  }
   YAML::Node value;
   try {
-    value = YAML::Load(override_value.value);
-  } catch (const YAML::Exception& error) {
-    fail("expected a YAML value, found " + in_quotes(override_value.value) + " (" + error.msg +
-         ")");
+    value = parse_one_document(override_value.value, "--set");
+  } catch (const ConfigError& error) {
+    // "invalid YAML: ..." or "expected one YAML document, found 2 ..." (a value holding "---"
+    // would otherwise set only what precedes it).
+    fail("expected a YAML value, found " + in_quotes(override_value.value) + " (" +
+         error.issues().front().message + ")");
     return;
   }
   if (!root_.IsDefined() || root_.IsNull()) root_.reset(YAML::Node(YAML::NodeType::Map));
@@ -212,28 +228,29 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
   YAML::Node current;
   current.reset(root_);
   std::string path;
+  bool created = false;  // Whether a map on the path is one this override made up.
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string& name = names[i];
     const bool last = i + 1 == names.size();
-    if (current.IsSequence() && is_index(name)) {
-      const std::size_t index = std::stoul(name);
-      if (index >= current.size()) {
-        fail("cannot set item " + name + " of " + path + ": the list has " +
+    const auto index = parse_index(name);
+    if (current.IsSequence() && index) {
+      if (*index >= current.size()) {
+        fail("cannot set item " + echoed(name) + " of " + path + ": the list has " +
              std::to_string(current.size()) + " items");
         return;
       }
       path += "[" + name + "]";
       if (last) {
-        current[index] = value;
+        current[*index] = value;
       } else {
-        YAML::Node next = current[index];
+        YAML::Node next = current[*index];
         current.reset(next);
       }
       continue;
     }
     if (!current.IsMap()) {
-      fail("cannot set " + name + " under " + path + ": " + path + " is " + describe_kind(current) +
-           ", not a map");
+      fail("cannot set " + echoed(name) + " under " + path + ": " + path + " is " +
+           describe_kind(current) + ", not a map");
       return;
     }
     path += (path.empty() ? "" : ".") + name;
@@ -243,6 +260,14 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
     }
     YAML::Node next = current[name];
     if (!next.IsDefined() || next.IsNull()) {
+      if (!next.IsDefined() && !created) {
+        std::vector<std::string> file_keys;
+        for (auto it = current.begin(); it != current.end(); ++it) {
+          if (it->first.IsScalar()) file_keys.push_back(it->first.Scalar());
+        }
+        issues_->mark_created(path, std::move(file_keys));
+        created = true;
+      }
       current[name] = YAML::Node(YAML::NodeType::Map);
       next.reset(current[name]);
     }

@@ -16,6 +16,10 @@ inline std::string format_number(double value) {
   return buffer;
 }
 
+/// How every message about a key that is not there begins (IssueList gathers those under a map
+/// that only a `--set` made up).
+inline constexpr std::string_view kMissingKey = "missing key";
+
 /// The most characters of a value, name or key a message repeats: enough to recognise it, and a
 /// 1 MB value does not bury the message (or the terminal) under itself.
 inline constexpr std::size_t kMaxEchoedChars = 80;

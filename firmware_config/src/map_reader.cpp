@@ -40,9 +40,43 @@ void IssueList::mark_overridden(std::string key_path) {
   overridden_paths_.push_back(std::move(key_path));
 }
 
+void IssueList::mark_created(std::string key_path, std::vector<std::string> file_keys) {
+  created_maps_.push_back({key_path, std::move(file_keys)});
+  mark_overridden(std::move(key_path));
+}
+
 void IssueList::throw_if_any() const {
   if (issues_.empty()) return;
-  std::vector<ConfigIssue> sorted = issues_;
+  // Keys missing under a map that only an override made up point at the override's typo.
+  std::vector<ConfigIssue> sorted;
+  std::vector<std::vector<std::string>> missing(created_maps_.size());
+  for (const auto& issue : issues_) {
+    const auto created =
+        std::find_if(created_maps_.begin(), created_maps_.end(), [&issue](const CreatedMap& map) {
+          return issue.key_path.size() > map.key_path.size() &&
+                 is_at_or_under(issue.key_path, map.key_path) &&
+                 issue.message.starts_with(kMissingKey);
+        });
+    if (created == created_maps_.end()) {
+      sorted.push_back(issue);
+      continue;
+    }
+    const auto index = static_cast<std::size_t>(created - created_maps_.begin());
+    missing[index].push_back(issue.key_path.substr(created->key_path.size() + 1));
+  }
+  for (std::size_t i = 0; i < created_maps_.size(); ++i) {
+    if (missing[i].empty()) continue;
+    const CreatedMap& map = created_maps_[i];
+    const std::string name = map.key_path.substr(map.key_path.rfind('.') + 1);
+    std::string message = "--set made up " + in_quotes(name) +
+                          ", which the file does not have, and it lacks " + join(missing[i]);
+    if (const auto suggestion = closest_name(name, map.file_keys)) {
+      message += "; did you mean " + in_quotes(*suggestion) + "?";
+    } else if (!map.file_keys.empty()) {
+      message += "; the file has " + join(map.file_keys);
+    }
+    sorted.push_back(ConfigIssue{"--set", 0, 0, map.key_path, std::move(message)});
+  }
   std::stable_sort(sorted.begin(), sorted.end(), [](const ConfigIssue& a, const ConfigIssue& b) {
     return std::tie(a.file, a.line, a.column) < std::tie(b.file, b.line, b.column);
   });

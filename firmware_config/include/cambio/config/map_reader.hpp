@@ -27,14 +27,24 @@ class IssueList {
   void add(ConfigIssue issue);
   /// Declares that `key_path` (and everything under it) came from a `--set` override.
   void mark_overridden(std::string key_path);
+  /// Declares that a `--set` created the map at `key_path`, which the file does not have (the
+  /// typo joints.neck_pam of `--set joints.neck_pam.max_velocity_rad_s=3`); `file_keys` are the
+  /// keys the file has beside it. The keys then missing under it are reported as one issue at
+  /// `key_path`, with a "did you mean" among `file_keys`, instead of one "missing key" each.
+  void mark_created(std::string key_path, std::vector<std::string> file_keys);
   bool empty() const { return issues_.empty(); }
   const std::vector<ConfigIssue>& issues() const { return issues_; }
   /// Throws ConfigError with every issue, ordered by file, line and column, if there is any.
   void throw_if_any() const;
 
  private:
+  struct CreatedMap {
+    std::string key_path;
+    std::vector<std::string> file_keys;
+  };
   std::vector<ConfigIssue> issues_;
   std::vector<std::string> overridden_paths_;
+  std::vector<CreatedMap> created_maps_;
 };
 
 /// Inclusive or exclusive bounds on a number.
@@ -169,6 +179,9 @@ class MapReader {
 /// bounds what parsing a config can take.
 inline constexpr std::size_t kMaxConfigFileBytes = std::size_t{1} << 20;
 
+/// The largest `--set` value (a number, a list, a map of a few keys): 64 KiB.
+inline constexpr std::size_t kMaxOverrideValueBytes = std::size_t{64} << 10;
+
 /// Why `path` cannot be read as a config file, as the end of a message: "it does not exist",
 /// "permission denied", "it is a directory, expected a YAML file", "it is a character device
 /// (such as /dev/zero), expected a regular file", "it holds 5000000 bytes, ...". nullopt when it
@@ -206,8 +219,9 @@ class ConfigDocument {
   ConfigDocument(YAML::Node root, std::string file);
   static ConfigDocument parse(const std::string& text, const std::string& name,
                               const std::vector<ConfigOverride>& overrides);
-  /// Sets the override's key in the tree, creating missing maps; records an issue (file
-  /// "--set") when the value does not parse or the path runs through a non-map.
+  /// Sets the override's key in the tree, creating missing maps (see IssueList::mark_created);
+  /// records an issue (file "--set") when the value is not one YAML value of at most
+  /// kMaxOverrideValueBytes, or the path runs through a non-map or past a list's end.
   void apply(const ConfigOverride& override_value);
   YAML::Node root_;
   std::string file_;

@@ -91,18 +91,12 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
     document.issues()->throw_if_any();
   }
   if (pose) {
+    // Every joint's key is read, so that a key naming no joint is offered all of them.
     for (auto& joint : config.rig.joints) {
-      if (!pose->has(joint.name + "_deg") && !pose->has(joint.name + "_rad")) continue;
-      const double position_rad = pose->angle_rad(joint.name);
-      if (position_rad < joint.min_position_rad || position_rad > joint.max_position_rad) {
-        pose->error(joint.name + (pose->has(joint.name + "_deg") ? "_deg" : "_rad"),
-                    "expected a position within the joint's limits [" +
-                        std::to_string(joint.min_position_rad) + ", " +
-                        std::to_string(joint.max_position_rad) + "] rad, found " +
-                        std::to_string(position_rad) + " rad");
-        continue;
-      }
-      joint.initial_position_rad = position_rad;
+      joint.initial_position_rad =
+          pose->angle_rad_or(joint.name, joint.initial_position_rad,
+                             Range::closed(joint.min_position_rad, joint.max_position_rad)
+                                 .because("the joint's limits in the rig"));
     }
     pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
   }

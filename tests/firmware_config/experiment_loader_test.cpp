@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include "file_test_support.hpp"
@@ -139,6 +140,42 @@ TEST(ExperimentLimits, DurationIsBoundedWithItsReason) {
   EXPECT_EQ(issues[0],
             "/tmp/experiment.yaml:4:15: experiment.duration_s: expected a number in (0, 86400] "
             "(a day; a run's cycles, progress and records grow with its duration), found 1e12");
+}
+
+// ---------------------------------------------------------------------------------------------
+// initial_pose
+
+TEST(ExperimentInitialPose, AnUnknownKeyIsOfferedEveryJoint) {
+  const std::string rig = test::shipped_rig_path("pan_tilt.yaml");
+  const auto typo =
+      experiment_issues(experiment_text(rig, "  initial_pose: {pan_deg: 10, tlit_deg: 5}\n"));
+  ASSERT_EQ(typo.size(), 1u) << joined(typo);
+  EXPECT_EQ(typo[0],
+            "/tmp/experiment.yaml:5:31: experiment.initial_pose.tlit_deg: unknown key "
+            "\"tlit_deg\"; did you mean \"tilt_deg\"?");
+  // With no close name, every joint's keys are listed (not only those the pose gave).
+  const auto unknown = experiment_issues(experiment_text(rig, "  initial_pose: {roll_deg: 5}\n"));
+  ASSERT_EQ(unknown.size(), 1u) << joined(unknown);
+  EXPECT_EQ(unknown[0],
+            "/tmp/experiment.yaml:5:18: experiment.initial_pose.roll_deg: unknown key "
+            "\"roll_deg\"; expected one of pan_deg, pan_rad, tilt_deg, tilt_rad");
+}
+
+TEST(ExperimentInitialPose, APositionOutsideTheLimitsIsRefusedInItsUnit) {
+  const auto issues = experiment_issues(
+      experiment_text(test::shipped_rig_path("pan_tilt.yaml"), "  initial_pose: {tilt_deg: 80}\n"));
+  ASSERT_EQ(issues.size(), 1u) << joined(issues);
+  EXPECT_EQ(issues[0],
+            "/tmp/experiment.yaml:5:28: experiment.initial_pose.tilt_deg: expected a number in "
+            "[-45, 60] (the joint's limits in the rig), found 80");
+}
+
+TEST(ExperimentInitialPose, APositionWithinTheLimitsIsApplied) {
+  const ExperimentConfig experiment = load_experiment_from_string(
+      experiment_text(test::shipped_rig_path("pan_tilt.yaml"), "  initial_pose: {tilt_deg: 30}\n"),
+      "/tmp/experiment.yaml");
+  EXPECT_DOUBLE_EQ(experiment.rig.find_joint("tilt")->initial_position_rad,
+                   30 * std::numbers::pi / 180);
 }
 
 }  // namespace

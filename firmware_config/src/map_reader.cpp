@@ -658,9 +658,17 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 std::optional<std::string> closest_name(std::string_view word,
                                         const std::vector<std::string>& candidates,
                                         std::optional<std::size_t> max_distance) {
+  // Names are short; a longer word is no typo of one, and the distance costs |word| x |name|.
+  constexpr std::size_t kMaxNameChars = 100;
+  if (word.size() > kMaxNameChars) return std::nullopt;
   std::optional<std::string> best;
   std::size_t best_distance = max_distance.value_or(std::max<std::size_t>(2, word.size() / 4)) + 1;
   for (const auto& candidate : candidates) {
+    // The sizes' difference is a lower bound of the distance.
+    const std::size_t size_difference = candidate.size() > word.size()
+                                            ? candidate.size() - word.size()
+                                            : word.size() - candidate.size();
+    if (candidate.size() > kMaxNameChars || size_difference >= best_distance) continue;
     const std::size_t distance = edit_distance(word, candidate);
     if (distance < best_distance) {
       best_distance = distance;

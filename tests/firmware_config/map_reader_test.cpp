@@ -219,5 +219,13 @@ TEST(Echo, AHugeKeyIsCutInTheKeyPath) {
       << text;
 }
 
+TEST(ClosestName, NothingIsSuggestedForOrAsAVeryLongWord) {
+  // The distance costs |word| x |name|: two 30 kB names took seconds per suggestion.
+  const std::string long_name(101, 'a');
+  EXPECT_EQ(closest_name(long_name, {long_name}), std::nullopt);
+  EXPECT_EQ(closest_name(std::string(100, 'a'), {std::string(100, 'a')}), std::string(100, 'a'));
+  EXPECT_EQ(closest_name("a", {long_name}), std::nullopt);
+}
+
 }  // namespace
 }  // namespace cambio::config

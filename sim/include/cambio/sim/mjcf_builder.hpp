@@ -31,6 +31,13 @@ struct MjcfOptions {
   int offscreen_height_px = 0;
 };
 
+/// The largest camera image the sim renders, in pixels a side. Each camera renders into one
+/// offscreen framebuffer (4 bytes of colour and 4 of depth a pixel) and is read back into two
+/// RGB buffers: at 8192 x 8192 that is 940 MB per camera. GL implementations may allow less
+/// (GL_MAX_RENDERBUFFER_SIZE); the renderer checks that too. Larger cameras are refused with a
+/// ConfigError naming them.
+inline constexpr int kMaxCameraSidePx = 8192;
+
 /// MJCF geom groups. The eyes render groups 0-2; group 3 (the head that carries the cameras)
 /// is drawn only by third-person views, so an eye never sees its own housing.
 inline constexpr int kSceneGeomGroup = 0;

@@ -158,8 +158,20 @@ int run_sim_bench_command(std::span<const std::string> args) {
             static_cast<double>(contacts) / static_cast<double>(steps), backend.world().model()->nq,
             backend.world().model()->nv};
   };
-  const PhysicsFigure full = measure_physics(physics_scene);
-  const PhysicsFigure robot_only = measure_physics(camera_scene);
+  PhysicsFigure full;
+  PhysicsFigure robot_only;
+  std::unique_ptr<sim::SimBackend> camera_backend;
+  try {
+    full = measure_physics(physics_scene);
+    robot_only = measure_physics(camera_scene);
+    camera_backend =
+        std::make_unique<sim::SimBackend>(rig, camera_scene, hardware, hal::BackendContext{&clock});
+    // Made now, not at the first camera: the renderer refuses cameras larger than it can draw.
+    (void)camera_backend->renderer();
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
   const double physics_steps_per_s = full.steps_per_s;
   const double mean_contacts = full.mean_contacts;
   const int nq = full.nq;
@@ -168,7 +180,7 @@ int run_sim_bench_command(std::span<const std::string> args) {
   // Cameras: the pipeline (HAL grab of both eyes, a physics step between pairs so every pair is
   // a new frame) against the raw MuJoCo loop, alternated in rounds so that both see the same
   // machine load.
-  sim::SimBackend backend(rig, camera_scene, hardware, hal::BackendContext{&clock});
+  sim::SimBackend& backend = *camera_backend;
   backend.activate();
   auto left = backend.make_camera(rig.stereo->left_camera);
   auto right = backend.make_camera(rig.stereo->right_camera);

@@ -149,5 +149,29 @@ TEST(BadInputTest, PerceiveRefusesAnOutputDirectoryItCannotWriteBeforeAnyWork) {
   }
 }
 
+// Scenes and cameras MuJoCo cannot build were reported as translation bugs with MuJoCo's text
+// (exit 1): 'yaxis too small', 'Stack overflow', 'Offscreen framebuffer is not complete'.
+TEST(BadInputTest, RenderRefusesScenesAndCamerasTheSimCannotBuildNamingTheKey) {
+  const auto dir = fresh_dir("bad_scenes");
+  const auto out = (dir / "out").string();
+  const auto scene =
+      file_with(dir / "self.yaml", "overview_camera: {xyz_m: [1, 2, 3], look_at_m: [1, 2, 3]}\n");
+  expect_bad_input({
+      {"render --scene '" + scene.string() + "' --out '" + out + "'",
+       "self.yaml: overview_camera.look_at_m: expected a point other than the camera's own"},
+      {"render --scene vergence --out '" + out +
+           "' --set cameras.left_eye.width_px=65535 "
+           "--set cameras.left_eye.principal_point_px=[32767,239.5]",
+       "cameras.left_eye.width_px: the simulator renders cameras of at most 8192 px a side"},
+  });
+}
+
+TEST(BadInputTest, RenderRefusesAnOutputDirectoryItCannotWriteBeforeAnyWork) {
+  const auto dir = fresh_dir("render_unwritable_out");
+  const auto blocker = file_with(dir / "a_file", "x");
+  expect_bad_input({{"render --scene vergence --out '" + (blocker / "below").string() + "'",
+                     "option '--out' " + (blocker / "below").string() + ": cannot write there"}});
+}
+
 }  // namespace
 }  // namespace cambio

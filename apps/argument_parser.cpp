@@ -1,7 +1,15 @@
 #include "argument_parser.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 
 namespace cambio::app {
@@ -109,30 +117,70 @@ std::vector<std::string> ArgumentParser::values(std::string_view name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-double ArgumentParser::number(std::string_view name, double fallback) const {
+void ArgumentParser::out_of_range(std::string_view name, std::string_view kind,
+                                  const config::Range& range, std::string_view why,
+                                  const std::string& found) const {
+  const std::string bounds = range.describe();
+  throw UsageError(command_ + ": option '--" + std::string(name) + "' expects " +
+                   std::string(kind) + (bounds.empty() ? "" : " " + bounds) + " (" +
+                   std::string(why) + "), got '" + found + "'");
+}
+
+double ArgumentParser::number(std::string_view name, double fallback, const config::Range& range,
+                              std::string_view why) const {
   if (!has(name)) return fallback;
   const std::string text = value(name);
   char* end = nullptr;
   errno = 0;
   const double parsed = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0) {
-    throw UsageError(command_ + ": option '--" + std::string(name) + "' expects a number, got '" +
-                     text + "'");
+  // strtod also reads "inf", "nan", hexadecimal and leading blanks; only decimal text passes.
+  const bool decimal = std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '+' || c == '-' || c == '.' ||
+           c == 'e' || c == 'E';
+  });
+  if (text.empty() || !decimal || end != text.c_str() + text.size() || errno != 0 ||
+      !std::isfinite(parsed) || !range.contains(parsed)) {
+    out_of_range(name, "a number", range, why, text);
   }
   return parsed;
 }
 
-long long ArgumentParser::integer(std::string_view name, long long fallback) const {
+long long ArgumentParser::integer(std::string_view name, long long fallback,
+                                  const config::Range& range, std::string_view why) const {
   if (!has(name)) return fallback;
   const std::string text = value(name);
   char* end = nullptr;
   errno = 0;
   const long long parsed = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0) {
-    throw UsageError(command_ + ": option '--" + std::string(name) +
-                     "' expects a whole number, got '" + text + "'");
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) != 0 ||
+      end != text.c_str() + text.size() || errno != 0 ||
+      !range.contains(static_cast<double>(parsed))) {
+    out_of_range(name, "a whole number", range, why, text);
   }
   return parsed;
+}
+
+std::string ArgumentParser::writable_directory(std::string_view name) const {
+  if (!has(name)) throw UsageError(command_ + ": --" + std::string(name) + " DIR is required");
+  const std::filesystem::path dir = value(name);
+  const auto refuse = [&](const std::string& why) {
+    throw UsageError(command_ + ": option '--" + std::string(name) + "' " + dir.string() +
+                     ": cannot write there: " + why);
+  };
+  if (dir.empty()) refuse("the path is empty");
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) refuse(error.message());
+  if (!std::filesystem::is_directory(dir, error)) refuse("not a directory");
+  // Permissions alone do not tell (root passes every check, a read-only mount fails none): only
+  // creating a file there does.
+  const std::filesystem::path probe =
+      dir / (".cambio-write-probe-" + std::to_string(static_cast<long long>(::getpid())));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) refuse(std::strerror(errno));
+  ::close(fd);
+  std::filesystem::remove(probe, error);
+  return dir.string();
 }
 
 std::optional<std::string> ArgumentParser::positional_value(std::string_view name) const {

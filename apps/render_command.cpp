@@ -87,7 +87,8 @@ int run_render_command(std::span<const std::string> args) {
       .flag("no-shadows", "render the overview without shadows");
   if (!parser.parse(args)) return kExitOk;
   if (!parser.has("scene")) throw UsageError("render: --scene SCENE is required");
-  if (!parser.has("out")) throw UsageError("render: --out DIR is required");
+  // Before any work: a run that cannot write its pictures is refused at once.
+  (void)parser.writable_directory("out");
 
   // `joints.<name>=<value>` (exactly two components) is a pose; a longer key path
   // (joints.neck_pan.max_velocity_rad_s=3) overrides the rig. A joint entry is a map in the rig,
@@ -149,6 +150,8 @@ int run_render_command(std::span<const std::string> args) {
   try {
     backend = std::make_unique<sim::SimBackend>(rig, scene, config::hardware_description(rig),
                                                 hal::BackendContext{&clock}, mjcf_options);
+    // Made now, not at the first camera: the renderer refuses cameras larger than it can draw.
+    (void)backend->renderer();
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;

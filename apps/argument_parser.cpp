@@ -1,15 +1,10 @@
 #include "argument_parser.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
 #include <iostream>
 
 namespace cambio::app {
@@ -158,29 +153,6 @@ long long ArgumentParser::integer(std::string_view name, long long fallback,
     out_of_range(name, "a whole number", range, why, text);
   }
   return parsed;
-}
-
-std::string ArgumentParser::writable_directory(std::string_view name) const {
-  if (!has(name)) throw UsageError(command_ + ": --" + std::string(name) + " DIR is required");
-  const std::filesystem::path dir = value(name);
-  const auto refuse = [&](const std::string& why) {
-    throw UsageError(command_ + ": option '--" + std::string(name) + "' " + dir.string() +
-                     ": cannot write there: " + why);
-  };
-  if (dir.empty()) refuse("the path is empty");
-  std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  if (error) refuse(error.message());
-  if (!std::filesystem::is_directory(dir, error)) refuse("not a directory");
-  // Permissions alone do not tell (root passes every check, a read-only mount fails none): only
-  // creating a file there does.
-  const std::filesystem::path probe =
-      dir / (".cambio-write-probe-" + std::to_string(static_cast<long long>(::getpid())));
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) refuse(std::strerror(errno));
-  ::close(fd);
-  std::filesystem::remove(probe, error);
-  return dir.string();
 }
 
 std::optional<std::string> ArgumentParser::positional_value(std::string_view name) const {

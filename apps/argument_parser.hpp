@@ -47,10 +47,6 @@ class ArgumentParser {
   /// The same for a whole number (decimal digits, optional sign); the range must fit `long long`.
   long long integer(std::string_view name, long long fallback, const config::Range& range,
                     std::string_view why) const;
-  /// The directory an output option names, created if missing and checked to be writable by
-  /// creating and removing a probe file in it. Throws UsageError naming the option, the path and
-  /// why it cannot be used (a file in the way, a read-only file system, no permission).
-  std::string writable_directory(std::string_view name) const;
   std::optional<std::string> positional_value(std::string_view name) const;
 
   std::string help_text() const;

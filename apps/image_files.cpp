@@ -250,18 +250,4 @@ std::vector<std::uint8_t> encode_png16(std::span<const std::uint16_t> samples, i
   return encode(view, "16-bit image");
 }
 
-void write_png(const std::string& path, const hal::Image& image) {
-  if (!cv::imwrite(path, bgr_view(image))) throw ImageFileError(path + ": could not write PNG");
-}
-
-void write_png16(const std::string& path, std::span<const std::uint16_t> samples, int width_px,
-                 int height_px) {
-  if (samples.size() != static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px)) {
-    throw ImageFileError(path + ": sample count does not match " + std::to_string(width_px) + "x" +
-                         std::to_string(height_px));
-  }
-  const cv::Mat view(height_px, width_px, CV_16UC1, const_cast<std::uint16_t*>(samples.data()));
-  if (!cv::imwrite(path, view)) throw ImageFileError(path + ": could not write PNG");
-}
-
 }  // namespace cambio::app

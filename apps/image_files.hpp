@@ -60,11 +60,4 @@ std::vector<std::uint8_t> encode_png(const hal::Image& image);
 std::vector<std::uint8_t> encode_png16(std::span<const std::uint16_t> samples, int width_px,
                                        int height_px);
 
-/// Writes an 8-bit grey or RGB image as PNG. Throws ImageFileError.
-void write_png(const std::string& path, const hal::Image& image);
-
-/// Writes a 16-bit single-channel PNG (e.g. depth in millimetres), rows packed.
-void write_png16(const std::string& path, std::span<const std::uint16_t> samples, int width_px,
-                 int height_px);
-
 }  // namespace cambio::app

@@ -22,6 +22,7 @@
 #include "config_errors.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
+#include "output_directory.hpp"
 
 namespace cambio::app {
 
@@ -267,7 +268,8 @@ int run_perceive_command(std::span<const std::string> args) {
       throw UsageError(std::string("perceive: --") + required + " is required");
   }
   // Before any work: a run that cannot write its results is refused at once.
-  (void)parser.writable_directory("out");
+  // Checked and claimed before the work: a bad destination fails at once.
+  OutputDirectory out(parser.value("out"), "perceive");
   if (parser.has("fixation") && (parser.has("fixation-left") || parser.has("fixation-right"))) {
     throw UsageError("perceive: give --fixation or --fixation-left/--fixation-right, not both");
   }
@@ -348,13 +350,6 @@ int run_perceive_command(std::span<const std::string> args) {
     return kExitFailure;
   }
 
-  const std::filesystem::path out_dir = parser.value("out");
-  std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
-  if (error) {
-    std::cerr << "cambio perceive: cannot create " << out_dir << ": " << error.message() << "\n";
-    return kExitFailure;
-  }
   const perception::SsmSummary& s = frame.summary;
   const auto& d = s.disparity;
   Json levels = Json::array();
@@ -391,13 +386,14 @@ int run_perceive_command(std::span<const std::string> args) {
         {"moments", six_digits(s.timings.moments_us)},
         {"total", six_digits(s.timings.total_us)}}},
       {"contact_sheet", "contact_sheet.png"}};
-  std::ofstream(out_dir / "result.json") << json_text(result);
+  out.stage("result.json", json_text(result));
 
   const cv::Mat sheet = contact_sheet(*servo, frame, left, right);
   hal::Image png(sheet.cols, sheet.rows, hal::PixelFormat::kRgb8);
   cv::Mat rgb(sheet.rows, sheet.cols, CV_8UC3, png.pixels.data());
   cv::cvtColor(sheet, rgb, cv::COLOR_BGR2RGB);
-  write_png((out_dir / "contact_sheet.png").string(), png);
+  out.stage("contact_sheet.png", encode_png(png));
+  out.commit();
 
   char disparity_text[32] = "invalid";
   if (d.valid) {
@@ -405,8 +401,8 @@ int run_perceive_command(std::span<const std::string> args) {
                   static_cast<double>(d.disparity_px));
   }
   std::printf("disparity %s px, confidence %.2f (level %d); wrote %s and %s\n", disparity_text,
-              static_cast<double>(d.confidence), d.level, (out_dir / "result.json").c_str(),
-              (out_dir / "contact_sheet.png").c_str());
+              static_cast<double>(d.confidence), d.level, (out.path() / "result.json").c_str(),
+              (out.path() / "contact_sheet.png").c_str());
   return kExitOk;
 }
 

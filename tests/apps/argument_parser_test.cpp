@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -67,38 +65,6 @@ TEST(ArgumentParserTest, NumbersMustBeFiniteDecimalsInsideTheRange) {
               std::string::npos)
         << text << ": " << message;
   }
-}
-
-TEST(ArgumentParserTest, AnOutputDirectoryIsCreatedAndMustBeWritable) {
-  const auto base = std::filesystem::temp_directory_path() / "cambio_argument_parser_test";
-  std::filesystem::remove_all(base);
-  std::filesystem::create_directories(base);
-  const auto fresh = base / "a" / "b";
-  EXPECT_EQ(parsed({"--out", fresh.string()}).writable_directory("out"), fresh.string());
-  EXPECT_TRUE(std::filesystem::is_directory(fresh));
-  EXPECT_TRUE(std::filesystem::is_empty(fresh)) << "the probe file is removed";
-
-  const auto file = base / "file";
-  std::ofstream(file) << "x";
-  for (const auto& path : {file, file / "below"}) {
-    const std::string message = refusal([&] {
-      (void)parsed({"--out", path.string()}).writable_directory("out");
-    });
-    EXPECT_NE(message.find("option '--out' " + path.string() + ": cannot write there"),
-              std::string::npos)
-        << message;
-  }
-  // A read-only file system refuses even root, which permission bits do not.
-  if (std::filesystem::is_directory("/proc/self")) {
-    const std::string message = refusal([&] {
-      (void)parsed({"--out", "/proc/self"}).writable_directory("out");
-    });
-    EXPECT_NE(message.find("/proc/self: cannot write there"), std::string::npos) << message;
-  }
-  EXPECT_NE(
-      refusal([&] { (void)parsed({}).writable_directory("out"); }).find("--out DIR is required"),
-      std::string::npos);
-  std::filesystem::remove_all(base);
 }
 
 }  // namespace

@@ -133,8 +133,8 @@ hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& 
   const std::optional<ImageHeader> header = read_image_header(bytes);
   if (!header) {
     throw ImageFileError(name +
-                         ": not an image this program reads (PNG, JPEG, PGM or PPM; its first "
-                         "bytes are none of these, or its header is cut short)");
+                         ": not an image this program reads (a PNG, JPEG, PGM or PPM file with a "
+                         "complete and valid header)");
   }
   check_size(name, "declares", header->width_px, header->height_px);
   const char* container = container_name(header->container);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <string>
@@ -288,6 +289,9 @@ int run_perceive_command(std::span<const std::string> args) {
     return kExitBadInput;
   }
 
+  // OpenCV logs a warning of its own for an image it cannot decode; decode_image's message names
+  // the file and says why, so only OpenCV's errors are let through.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   hal::Image left;
   hal::Image right;
   try {

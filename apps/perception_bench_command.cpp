@@ -187,7 +187,7 @@ int run_perception_bench_command(std::span<const std::string> args) {
   if (!parser.parse(args)) return kExitOk;
   const int repeats = static_cast<int>(parser.integer(
       "repeats", 300, config::Range::closed(5, 100'000),
-      "a median needs at least 5 runs; 100000 already keep the slowest figure busy for minutes"));
+      "a median needs at least 5 runs; at 100000 a run already takes about an hour"));
   // One thread everywhere: the SSM is one loop on one core, so OpenCV gets one core too.
   cv::setNumThreads(1);
 

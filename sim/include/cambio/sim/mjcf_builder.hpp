@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cambio/config/rig_config.hpp"
+#include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
 
 namespace cambio::sim {
@@ -31,16 +32,17 @@ struct MjcfOptions {
   int offscreen_height_px = 0;
 };
 
-/// The largest camera image the sim renders, in pixels a side. Each camera renders into one
-/// offscreen framebuffer (4 bytes of colour and 4 of depth a pixel) and is read back into two
-/// RGB buffers: at 8192 x 8192 that is 940 MB per camera. GL implementations may allow less
-/// (GL_MAX_RENDERBUFFER_SIZE); the renderer checks that too. Larger cameras are refused with a
-/// ConfigError naming them.
-inline constexpr int kMaxCameraSidePx = 8192;
+/// The largest camera image the sim renders, in pixels a side: the rig loader's limit
+/// (config::kMaxCameraSide_px), checked again here for rigs built in code. Each camera renders
+/// into one offscreen framebuffer (4 bytes of colour and 4 of depth a pixel) and is read back into
+/// two RGB buffers. GL implementations may allow less (GL_MAX_RENDERBUFFER_SIZE); the renderer
+/// checks that too. Larger cameras are refused with a ConfigError naming them.
+inline constexpr int kMaxCameraSidePx = config::kMaxCameraSide_px;
 
-/// Scene objects in all. MuJoCo's broad phase takes nbody^2 / 2 numbers of its stack (mjData's
-/// arena, sized from the model by build_mjcf): 100 MB at this count, about 2 s to compile.
-inline constexpr int kMaxSceneObjects = 5000;
+/// Scene objects in all: the scene loader's limit (config::kMaxSceneObjects), checked again here
+/// for scenes built in code. MuJoCo's broad phase takes nbody^2 / 2 numbers of its stack (mjData's
+/// arena, sized from the model by build_mjcf); the arena sizing was measured up to 5000 objects.
+inline constexpr int kMaxSceneObjects = static_cast<int>(config::kMaxSceneObjects);
 /// Objects that move (free or scripted). Each free one adds 6 degrees of freedom, and MuJoCo
 /// 2.2's Newton solver keeps dense nv x nv matrices (5 nv^2 numbers of stack); each may touch
 /// others and the robot in 8 contacts of 4 constraint rows, whose nefc x nefc matrix mjData

@@ -6,9 +6,11 @@
 #include <cerrno>
 #include <charconv>
 #include <limits>
+#include <sstream>
 #include <system_error>
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include "cambio/config/map_reader.hpp"
 #include "format.hpp"
@@ -118,12 +120,48 @@ std::optional<std::string> open_config_file(const std::string& path, FileDescrip
   throw ConfigError({ConfigIssue{path, 0, 0, "", "cannot read the file: " + problem}});
 }
 
+/// Where each document of a YAML stream starts, and nothing else of it.
+class DocumentStarts final : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { start_ = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  const YAML::Mark& start() const { return start_; }
+
+ private:
+  YAML::Mark start_ = YAML::Mark::null_mark();
+};
+
 /// The one YAML document of `text` (a null node for none); throws ConfigError (in `name`) for
 /// a syntax error, nesting deeper than the parser takes, or a second document.
 YAML::Node parse_one_document(const std::string& text, const std::string& name) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
+    root = YAML::Load(text);
+    // YAML::LoadAll would say how many documents follow, but a ',' where a document starts
+    // makes yaml-cpp return an empty document there again and again, without end (LoadAll
+    // grows without bound); one more document is all that needs seeing.
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentStarts documents;
+    if (parser.HandleNextDocument(documents) && parser.HandleNextDocument(documents)) {
+      const YAML::Mark& at = documents.start();
+      const bool stray_comma = at.pos >= 0 && static_cast<std::size_t>(at.pos) < text.size() &&
+                               text[static_cast<std::size_t>(at.pos)] == ',';
+      throw ConfigError({issue_at(name, at,
+                                  stray_comma ? "invalid YAML: a ',' outside any list or map"
+                                              : "expected one YAML document, found a second "
+                                                "(a line '---' starts it)")});
+    }
   } catch (const YAML::DeepRecursion& error) {
     // yaml-cpp's own message for it says "bad file", and its column is where the scanner had
     // got to (the line's end): the line alone is given.
@@ -136,13 +174,7 @@ YAML::Node parse_one_document(const std::string& text, const std::string& name) 
   } catch (const YAML::Exception& error) {
     throw ConfigError({issue_at(name, error.mark, "invalid YAML: " + error.msg)});
   }
-  if (documents.size() > 1) {
-    throw ConfigError(
-        {issue_at(name, documents[1].Mark(),
-                  "expected one YAML document, found " + std::to_string(documents.size()) +
-                      " (a line '---' starts another)")});
-  }
-  return documents.empty() ? YAML::Node() : documents.front();
+  return root;
 }
 
 }  // namespace

@@ -127,9 +127,19 @@ TEST(ConfigText, NestingBeyondTheParsersDepthIsNamed) {
 TEST(ConfigText, ASecondDocumentIsRefused) {
   // Only the first would be read, silently.
   EXPECT_EQ(parse_problem("rig: {name: a}\n---\nrig: {name: b}\n"),
-            "doc.yaml:3:1: expected one YAML document, found 2 (a line '---' starts another)");
+            "doc.yaml:2:1: expected one YAML document, found a second (a line '---' starts it)");
   EXPECT_EQ(parse_problem("---\nrig: {name: a}\n"), "loaded");
   EXPECT_EQ(parse_problem(""), "loaded");
+}
+
+TEST(ConfigText, AStrayCommaWhereADocumentStartsIsRefused) {
+  // Found by fuzz_experiment: yaml-cpp reads a ',' where a document starts as an empty document,
+  // YAML::Load dropped the rest of the file, and YAML::LoadAll returned that empty document
+  // again and again until memory ran out.
+  EXPECT_EQ(parse_problem(", e.yaml\n  executor: lockstep\n"),
+            "doc.yaml:1:1: invalid YAML: a ',' outside any list or map");
+  EXPECT_EQ(parse_problem("a: 1\n...\n,\n"),
+            "doc.yaml:3:1: invalid YAML: a ',' outside any list or map");
 }
 
 }  // namespace

@@ -174,7 +174,7 @@ TEST(Override, AValueOfSeveralDocumentsIsRefused) {
   ASSERT_EQ(issues.size(), 1u) << describe(issues);
   EXPECT_EQ(issues[0].to_string(),
             "--set: loops.joint.rate_hz: expected a YAML value, found \"500\\n---\\n100\" "
-            "(expected one YAML document, found 2 (a line '---' starts another))");
+            "(expected one YAML document, found a second (a line '---' starts it))");
 }
 
 TEST(Override, AHugeListIndexIsRefusedAsOutOfRange) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <vector>
 
@@ -108,6 +109,23 @@ const char* container_name(ImageContainer container) {
   return "image";
 }
 
+// OpenCV 4.6's imdecode writes the text of a decoder's exception to std::cerr ("imdecode_(''):
+// can't read data: ...") and returns an empty image; decode_image's own message names the file
+// and says what is wrong, so that text is dropped while imdecode runs.
+class CerrSilenced {
+ public:
+  CerrSilenced() : saved_(std::cerr.rdbuf(nullptr)) {}
+  ~CerrSilenced() {
+    std::cerr.rdbuf(saved_);
+    std::cerr.clear();
+  }
+  CerrSilenced(const CerrSilenced&) = delete;
+  CerrSilenced& operator=(const CerrSilenced&) = delete;
+
+ private:
+  std::streambuf* saved_;
+};
+
 void check_size(const std::string& name, const char* what, std::int64_t width,
                 std::int64_t height) {
   const std::string size = std::to_string(width) + "x" + std::to_string(height) + " px";
@@ -142,6 +160,7 @@ hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& 
   try {
     const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8U,
                           const_cast<std::uint8_t*>(bytes.data()));
+    const CerrSilenced silenced;
     raw = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   } catch (const cv::Exception&) {
     raw.release();

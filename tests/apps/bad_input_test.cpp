@@ -107,6 +107,7 @@ TEST(BadInputTest, PerceiveRefusesImagesItCannotMeasureWithTheFileName) {
       {file_with(dir / "cut.png", png_header(64, 64)), "cut.png: a damaged PNG file"},
       {file_with(dir / "huge.pgm", "P5\n60000 60000\n255\n"),
        "huge.pgm: declares a 60000x60000 px image"},
+      {file_with(dir / "short.pgm", "P5\n64 64\n255\nabc"), "short.pgm: a damaged PGM/PPM file"},
       {dir, "a directory, not an image file"},
   };
   for (const auto& [image, expected] : cases) {
@@ -116,6 +117,8 @@ TEST(BadInputTest, PerceiveRefusesImagesItCannotMeasureWithTheFileName) {
         << image << ": expected '" << expected << "' in\n"
         << result.output;
     EXPECT_FALSE(std::filesystem::exists(out / "contact_sheet.png")) << image;
+    EXPECT_EQ(result.output.find("OpenCV("), std::string::npos) << "library text:\n"
+                                                                << result.output;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <vector>
 
@@ -36,9 +37,12 @@ std::optional<ImageHeader> png_header(std::span<const std::uint8_t> bytes) {
 
 // JPEG: SOI, then marker segments (0xFF, the marker, a 2-byte length that counts itself) up to
 // the first start-of-frame, whose bytes 3-6 are height and width (ITU-T T.81, B.2.2). Markers are
-// found as libjpeg finds them: bytes before a 0xFF are skipped, 0xFF fill bytes too.
+// found as libjpeg finds them: bytes before a 0xFF are skipped, 0xFF fill bytes too. The file
+// must begin with FF D8 FF, the signature OpenCV chooses its JPEG decoder by (see decode_image).
 std::optional<ImageHeader> jpeg_header(std::span<const std::uint8_t> bytes) {
-  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return std::nullopt;
+  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF) {
+    return std::nullopt;
+  }
   std::size_t i = 2;
   while (i < bytes.size()) {
     while (i < bytes.size() && bytes[i] != 0xFF) ++i;
@@ -108,6 +112,23 @@ const char* container_name(ImageContainer container) {
   return "image";
 }
 
+// OpenCV 4.6's imdecode writes the text of a decoder's exception to std::cerr ("imdecode_(''):
+// can't read data: ...") and returns an empty image; decode_image's own message names the file
+// and says what is wrong, so that text is dropped while imdecode runs.
+class CerrSilenced {
+ public:
+  CerrSilenced() : saved_(std::cerr.rdbuf(nullptr)) {}
+  ~CerrSilenced() {
+    std::cerr.rdbuf(saved_);
+    std::cerr.clear();
+  }
+  CerrSilenced(const CerrSilenced&) = delete;
+  CerrSilenced& operator=(const CerrSilenced&) = delete;
+
+ private:
+  std::streambuf* saved_;
+};
+
 void check_size(const std::string& name, const char* what, std::int64_t width,
                 std::int64_t height) {
   const std::string size = std::to_string(width) + "x" + std::to_string(height) + " px";
@@ -121,6 +142,12 @@ void check_size(const std::string& name, const char* what, std::int64_t width,
 
 }  // namespace
 
+// Each container is recognised by the very signature OpenCV's decoder for it checks (PNG: the 8
+// bytes, JPEG: FF D8 FF, PxM: 'P', a digit, a blank), and no decoder OpenCV tries before it
+// shares those first bytes, so imdecode, which takes the first decoder whose signature matches,
+// decodes with the decoder of the container read here. Anything looser lets another decoder in:
+// fuzz_image_read found "FF D8 8A ..." with "DICM" at byte 128, which OpenCV handed to GDCM's
+// DICOM reader, and that aborts on a malformed file.
 std::optional<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes) {
   if (auto header = png_header(bytes)) return header;
   if (auto header = jpeg_header(bytes)) return header;
@@ -142,6 +169,7 @@ hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& 
   try {
     const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8U,
                           const_cast<std::uint8_t*>(bytes.data()));
+    const CerrSilenced silenced;
     raw = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   } catch (const cv::Exception&) {
     raw.release();

@@ -43,7 +43,8 @@ std::optional<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes
 /// it to `format`; 16-bit samples are scaled to 8 bit (value / 257). The container must be one
 /// read_image_header knows and the size it declares, like the decoded one, within
 /// kMaxImageSidePx and kMaxImagePixels, so no decoder allocates for a size that is refused.
-/// Throws ImageFileError naming `name` and what is wrong.
+/// Throws ImageFileError naming `name` and what is wrong. Not thread-safe: std::cerr is silenced
+/// while OpenCV decodes (it writes its decoders' errors there).
 hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name,
                         hal::PixelFormat format);
 

@@ -88,9 +88,10 @@ std::string perceive(const std::filesystem::path& image, const std::filesystem::
          out.string() + "'";
 }
 
-// Before: 5000x1 ended in OpenCV's "inv_scale_x > 0" (exit 1), 1x500 and 1x1 were measured (on
-// the images' clamped borders), a PGM declaring 60000x60000 ended in OpenCV's
-// validateInputImageSize (exit 1), a PNG declaring 30000x30000 was decoded into 900 MB.
+// Before: a 142-byte file aborted the program (134) in GDCM, 5000x1 ended in OpenCV's
+// "inv_scale_x > 0" (exit 1), 1x500 and 1x1 were measured (on the images' clamped borders), a PGM
+// declaring 60000x60000 ended in OpenCV's validateInputImageSize (exit 1), a PNG declaring
+// 30000x30000 was decoded into 900 MB.
 TEST(BadInputTest, PerceiveRefusesImagesItCannotMeasureWithTheFileName) {
   const auto dir = fresh_dir("bad_images");
   const auto out = dir / "out";
@@ -107,6 +108,11 @@ TEST(BadInputTest, PerceiveRefusesImagesItCannotMeasureWithTheFileName) {
       {file_with(dir / "cut.png", png_header(64, 64)), "cut.png: a damaged PNG file"},
       {file_with(dir / "huge.pgm", "P5\n60000 60000\n255\n"),
        "huge.pgm: declares a 60000x60000 px image"},
+      {file_with(dir / "short.pgm", "P5\n64 64\n255\nabc"), "short.pgm: a damaged PGM/PPM file"},
+      // "DICM" at byte 128 took OpenCV to GDCM's DICOM reader, whose assertion aborted (134).
+      {file_with(dir / "dicom.png",
+                 std::string(128, '\0') + "DICM" + std::string("\x02\0\x10\0UI\0\0\0\0", 10)),
+       "dicom.png: not an image this program reads"},
       {dir, "a directory, not an image file"},
   };
   for (const auto& [image, expected] : cases) {
@@ -116,6 +122,8 @@ TEST(BadInputTest, PerceiveRefusesImagesItCannotMeasureWithTheFileName) {
         << image << ": expected '" << expected << "' in\n"
         << result.output;
     EXPECT_FALSE(std::filesystem::exists(out / "contact_sheet.png")) << image;
+    EXPECT_EQ(result.output.find("OpenCV("), std::string::npos) << "library text:\n"
+                                                                << result.output;
   }
 }
 

@@ -126,5 +126,29 @@ TEST(ImageFilesTest, OtherContainersAndDamagedFilesAreRefusedWithTheName) {
   EXPECT_NE(refusal(png).find("in.img: a damaged PNG file"), std::string::npos);
 }
 
+// Regression, found by tests/fuzz/fuzz_image_read.cpp: FF D8 without OpenCV's JPEG signature
+// (FF D8 FF), and "DICM" at byte 128. OpenCV handed it to GDCM's DICOM reader, which aborted
+// the process on an assertion. A container is now recognised only by the signature OpenCV's
+// decoder for it checks.
+TEST(ImageFilesTest, BytesOpenCvWouldGiveToAnotherDecoderAreRefused) {
+  const std::string crash(
+      "\xFF\xD8\x8A\xFF\xC0\x00\x22\x00\x02\x01\x04\x00\x00\x00\x00\x00\x00\x00\x00\x00"
+      "\x00\x00\x00\x00\x00\x00\x00\x75\x73\x77\x2F\x6C\x69\x06\x00\x00\xFF\x01\x9F\x96"
+      "\x7C\x6C\x69\x06\x00\x00\xFF\x01\x9F\x96\x7C\xCD\x61\x23\x24\x24\x24\x24\x24\x24"
+      "\x24\x24\x24\x24\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44"
+      "\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44"
+      "\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x44\x24\x24\x24\x24"
+      "\x24\x44\x49\x43\x4D\x03\x02\x04\x44\x49\x43\x4D\x0B\x00",
+      134);
+  const std::vector<std::uint8_t> bytes(crash.begin(), crash.end());
+  EXPECT_FALSE(read_image_header(bytes).has_value());
+  EXPECT_NE(refusal(bytes).find("in.img: not an image this program reads"), std::string::npos);
+  // A JPEG with a byte between SOI and the next marker: libjpeg would read it, OpenCV would not
+  // take it for a JPEG.
+  auto jpeg = encoded(random_image(8, 8, CV_8U), ".jpg");
+  jpeg.insert(jpeg.begin() + 2, 0x00);
+  EXPECT_FALSE(read_image_header(jpeg).has_value());
+}
+
 }  // namespace
 }  // namespace cambio::app

@@ -8,9 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include <array>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -48,16 +46,8 @@ std::set<std::string> names_in(const fs::path& dir) {
 /// A shell command line run from the source tree, with $CAMBIO naming the built program;
 /// stdout and stderr are captured unless the script redirects them.
 testing::CommandResult run_in_shell(const std::string& script) {
-  const std::string command = std::string("cd '") + CAMBIO_SOURCE_DIR + "' && CAMBIO='" +
-                              CAMBIO_BINARY_DIR + "/bin/cambio' && { " + script + "; } 2>&1";
-  testing::CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return testing::run_shell(std::string("cd '") + CAMBIO_SOURCE_DIR + "' && CAMBIO='" +
+                            CAMBIO_BINARY_DIR + "/bin/cambio' && { " + script + "; } 2>&1");
 }
 
 nlohmann::json read_json(const fs::path& path) {

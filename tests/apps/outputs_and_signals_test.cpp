@@ -151,6 +151,8 @@ TEST(Outputs, AFailedWriteToStandardOutputIsAnError) {
 /// Starts a long run, waits until it has started (its handlers are installed), sends `signal`.
 testing::CommandResult interrupt_run(const std::string& signal, const fs::path& out) {
   const fs::path log = out.string() + ".log";
+  // A log left by an earlier run would say "started" before this one has installed its handlers.
+  fs::remove(log);
   return run_in_shell(
       "\"$CAMBIO\" run firmware_config/experiments/sim_default.yaml --set experiment.task=hold "
       "--set experiment.duration_s=60 --out '" +

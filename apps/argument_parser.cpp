@@ -1,6 +1,9 @@
 #include "argument_parser.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -109,28 +112,45 @@ std::vector<std::string> ArgumentParser::values(std::string_view name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-double ArgumentParser::number(std::string_view name, double fallback) const {
+void ArgumentParser::out_of_range(std::string_view name, std::string_view kind,
+                                  const config::Range& range, std::string_view why,
+                                  const std::string& found) const {
+  const std::string bounds = range.describe();
+  throw UsageError(command_ + ": option '--" + std::string(name) + "' expects " +
+                   std::string(kind) + (bounds.empty() ? "" : " " + bounds) + " (" +
+                   std::string(why) + "), got '" + found + "'");
+}
+
+double ArgumentParser::number(std::string_view name, double fallback, const config::Range& range,
+                              std::string_view why) const {
   if (!has(name)) return fallback;
   const std::string text = value(name);
   char* end = nullptr;
   errno = 0;
   const double parsed = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0) {
-    throw UsageError(command_ + ": option '--" + std::string(name) + "' expects a number, got '" +
-                     text + "'");
+  // strtod also reads "inf", "nan", hexadecimal and leading blanks; only decimal text passes.
+  const bool decimal = std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '+' || c == '-' || c == '.' ||
+           c == 'e' || c == 'E';
+  });
+  if (text.empty() || !decimal || end != text.c_str() + text.size() || errno != 0 ||
+      !std::isfinite(parsed) || !range.contains(parsed)) {
+    out_of_range(name, "a number", range, why, text);
   }
   return parsed;
 }
 
-long long ArgumentParser::integer(std::string_view name, long long fallback) const {
+long long ArgumentParser::integer(std::string_view name, long long fallback,
+                                  const config::Range& range, std::string_view why) const {
   if (!has(name)) return fallback;
   const std::string text = value(name);
   char* end = nullptr;
   errno = 0;
   const long long parsed = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0) {
-    throw UsageError(command_ + ": option '--" + std::string(name) +
-                     "' expects a whole number, got '" + text + "'");
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front())) != 0 ||
+      end != text.c_str() + text.size() || errno != 0 ||
+      !range.contains(static_cast<double>(parsed))) {
+    out_of_range(name, "a whole number", range, why, text);
   }
   return parsed;
 }

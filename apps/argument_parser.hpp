@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "cambio/config/map_reader.hpp"
+
 namespace cambio::app {
 
 /// A command-line mistake; the message names the option and what was wrong.
@@ -18,7 +20,9 @@ class UsageError : public std::runtime_error {
 
 /// A small, strict parser for `--name value`, `--name=value`, `--flag` and positionals.
 /// Unknown options, missing values and malformed numbers throw UsageError. Options declared
-/// repeatable (like --set) collect every occurrence.
+/// repeatable (like --set) collect every occurrence. Numbers are read only with a range and the
+/// reason for it, as config values are (config::Range), so no option takes a value the code
+/// behind it cannot use.
 class ArgumentParser {
  public:
   ArgumentParser(std::string command, std::string synopsis);
@@ -35,8 +39,14 @@ class ArgumentParser {
   bool flag_set(std::string_view name) const { return has(name); }
   std::string value(std::string_view name, std::string fallback = {}) const;
   std::vector<std::string> values(std::string_view name) const;
-  double number(std::string_view name, double fallback) const;
-  long long integer(std::string_view name, long long fallback) const;
+  /// The option's value as a finite number inside `range`, or `fallback` when absent. Throws
+  /// UsageError naming the option, the range, `why` (the reason for the range, shown to the
+  /// user) and what was found.
+  double number(std::string_view name, double fallback, const config::Range& range,
+                std::string_view why) const;
+  /// The same for a whole number (decimal digits, optional sign); the range must fit `long long`.
+  long long integer(std::string_view name, long long fallback, const config::Range& range,
+                    std::string_view why) const;
   std::optional<std::string> positional_value(std::string_view name) const;
 
   std::string help_text() const;
@@ -54,6 +64,9 @@ class ArgumentParser {
     bool required = true;
   };
   const Spec* find(std::string_view name) const;
+  [[noreturn]] void out_of_range(std::string_view name, std::string_view kind,
+                                 const config::Range& range, std::string_view why,
+                                 const std::string& found) const;
 
   std::string command_;
   std::string synopsis_;

@@ -1,9 +1,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cambio/hal/image.hpp"
 
@@ -15,15 +17,48 @@ class ImageFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads a PNG or JPEG (grey or colour, 8 or 16 bit) and converts it to `format`. 16-bit
-/// samples are scaled to 8 bit (value / 257). Throws ImageFileError.
+/// The images `read_image_file` accepts. A side of 16384 px is twice the largest camera the sim
+/// renders; 64 Mpx (a 16-bit colour decode of 384 MB) keeps a decompression bomb, a few hundred
+/// kilobytes of PNG that declare gigapixels, from taking the machine's memory. The file size
+/// bound is that of the largest accepted image stored uncompressed, with room for metadata.
+inline constexpr int kMaxImageSidePx = 16384;
+inline constexpr std::int64_t kMaxImagePixels = std::int64_t{64} << 20;
+inline constexpr std::int64_t kMaxImageFileBytes = std::int64_t{512} << 20;
+
+enum class ImageContainer : std::uint8_t { kPng, kJpeg, kPnm };
+
+/// What an image file's header declares, read without decoding any pixel.
+struct ImageHeader {
+  ImageContainer container = ImageContainer::kPng;
+  std::int64_t width_px = 0;
+  std::int64_t height_px = 0;
+};
+
+/// Reads the container and size from the first bytes of a PNG (IHDR), a JPEG (the first SOFn
+/// segment) or a binary or text PGM/PPM (P2, P3, P5, P6); nullopt for anything else or a header
+/// cut short. Never reads past `bytes`. Thread-safe; allocates nothing.
+std::optional<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes);
+
+/// Decodes the bytes of an image file named `name` (the name is only for messages) and converts
+/// it to `format`; 16-bit samples are scaled to 8 bit (value / 257). The container must be one
+/// read_image_header knows and the size it declares, like the decoded one, within
+/// kMaxImageSidePx and kMaxImagePixels, so no decoder allocates for a size that is refused.
+/// Throws ImageFileError naming `name` and what is wrong. Not thread-safe: std::cerr is silenced
+/// while OpenCV decodes (it writes its decoders' errors there).
+hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name,
+                        hal::PixelFormat format);
+
+/// Reads a PNG, JPEG or PGM/PPM file (grey or colour, 8 or 16 bit) with decode_image; refuses a
+/// missing, unreadable, empty or larger than kMaxImageFileBytes file. Throws ImageFileError
+/// naming `path`.
 hal::Image read_image_file(const std::string& path, hal::PixelFormat format);
 
-/// Writes an 8-bit grey or RGB image as PNG. Throws ImageFileError.
-void write_png(const std::string& path, const hal::Image& image);
+/// An 8-bit grey or RGB image as PNG file bytes (to stage in an OutputDirectory). Throws
+/// ImageFileError.
+std::vector<std::uint8_t> encode_png(const hal::Image& image);
 
-/// Writes a 16-bit single-channel PNG (e.g. depth in millimetres), rows packed.
-void write_png16(const std::string& path, std::span<const std::uint16_t> samples, int width_px,
-                 int height_px);
+/// A 16-bit single-channel image (e.g. depth in millimetres, rows packed) as PNG file bytes.
+std::vector<std::uint8_t> encode_png16(std::span<const std::uint16_t> samples, int width_px,
+                                       int height_px);
 
 }  // namespace cambio::app

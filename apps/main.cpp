@@ -1,4 +1,7 @@
 // `cambio`: the command-line front end. Dispatches to one subcommand per file.
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -6,6 +9,7 @@
 
 #include "argument_parser.hpp"
 #include "command.hpp"
+#include "output_directory.hpp"
 
 namespace {
 
@@ -17,7 +21,26 @@ void print_usage(std::ostream& out) {
         << std::string(20 - std::min<std::size_t>(19, command.name.size()), ' ') << command.summary
         << "\n";
   }
-  out << "\n'cambio <command> --help' describes a command.\n";
+  out << "\n'cambio <command> --help' describes a command.\n"
+         "\nexit status:\n"
+         "  0    success\n"
+         "  1    the run finished but an experiment's goal failed\n"
+         "  2    bad input: arguments, config, input files or images, an unusable --out\n"
+         "  3    a device fault (drive or bus) stopped the run\n"
+         "  130  stopped by SIGINT (Ctrl-C); 143 by SIGTERM or SIGHUP\n"
+         "  where several apply: a signal over a device fault over a failed goal\n";
+}
+
+/// Standard output is where --json and check-config answer: a failed write (a full disk, a
+/// closed pipe) is an error, never exit 0.
+int check_standard_output(const std::string& command, int status) {
+  std::cout.flush();
+  const bool failed = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (!failed) return status;
+  std::cerr << "cambio " << command
+            << ": cannot write to standard output: " << std::strerror(errno != 0 ? errno : EIO)
+            << "\n";
+  return status == cambio::app::kExitOk ? cambio::app::kExitBadInput : status;
 }
 
 }  // namespace
@@ -30,15 +53,19 @@ int main(int argc, char** argv) {
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     print_usage(std::cout);
-    return cambio::app::kExitOk;
+    return check_standard_output("--help", cambio::app::kExitOk);
   }
   const std::vector<std::string> args(argv + 2, argv + argc);
   for (const auto& command : cambio::app::all_commands()) {
     if (command.name != name) continue;
     try {
-      return command.run(args);
+      errno = 0;
+      return check_standard_output(name, command.run(args));
     } catch (const cambio::app::UsageError& error) {
       std::cerr << "cambio " << error.what() << "\n";
+      return cambio::app::kExitBadInput;
+    } catch (const cambio::app::OutputError& error) {
+      std::cerr << "cambio " << name << ": " << error.what() << "\n";
       return cambio::app::kExitBadInput;
     } catch (const std::exception& error) {
       std::cerr << "cambio " << name << ": error: " << error.what() << "\n";

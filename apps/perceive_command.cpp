@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "config_errors.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
+#include "output_directory.hpp"
 
 namespace cambio::app {
 
@@ -92,8 +94,9 @@ Json level_json(const perception::SsmSummary& s, int k, const std::string& momen
 }
 
 /// Derivative-like maps as grey with 128 at zero and +-127 at the map's largest magnitude;
-/// smoothing-like maps (intensity, averages, g0) stretched from their minimum to maximum.
-cv::Mat map_tile(const float* map, int width, int height, bool signed_map, int zoom) {
+/// smoothing-like maps (intensity, averages, g0) stretched from their minimum to maximum. Scaled
+/// to tile_w x tile_h: enlarged by whole pixels, reduced by area averaging.
+cv::Mat map_tile(const float* map, int width, int height, bool signed_map, int tile_w, int tile_h) {
   cv::Mat tile(height, width, CV_8U);
   float peak = 0.0f;
   float low = map[0];
@@ -112,9 +115,10 @@ cv::Mat map_tile(const float* map, int width, int height, bool signed_map, int z
       tile.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(std::lround(g), 0L, 255L));
     }
   }
-  cv::Mat zoomed;
-  cv::resize(tile, zoomed, cv::Size(width * zoom, height * zoom), 0, 0, cv::INTER_NEAREST);
-  return zoomed;
+  cv::Mat scaled;
+  cv::resize(tile, scaled, cv::Size(tile_w, tile_h), 0, 0,
+             tile_w >= width ? cv::INTER_NEAREST : cv::INTER_AREA);
+  return scaled;
 }
 
 void label(cv::Mat& canvas, const std::string& text, int x, int y, double scale = 0.45) {
@@ -122,16 +126,29 @@ void label(cv::Mat& canvas, const std::string& text, int x, int y, double scale 
               cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
 }
 
+/// The contact sheet is a picture for people: whatever the retina's size and the images' shape,
+/// it fits this canvas (a 1x500 image once made it 1182x292046 px, 1 GB of pixels).
+constexpr int kSheetMaxWidthPx = 1600;
+constexpr int kSheetMaxHeightPx = 2400;
+
+/// The largest w x h box that keeps the aspect of `width` x `height` inside `box_w` x `box_h`,
+/// at least 1 px a side.
+cv::Size fit_inside(int width, int height, int box_w, int box_h) {
+  const double scale =
+      std::min(static_cast<double>(box_w) / width, static_cast<double>(box_h) / height);
+  return {std::clamp(static_cast<int>(std::floor(width * scale)), 1, box_w),
+          std::clamp(static_cast<int>(std::floor(height * scale)), 1, box_h)};
+}
+
 /// Columns: intensity and up to eight feature maps; rows: each level of each eye. Beneath, both
-/// images with each level's footprint drawn (the paper's Figure 1, bottom).
+/// images with each level's footprint drawn (the paper's Figure 1, bottom). Tiles are enlarged
+/// to about 112 px by whole pixels and shrunk when the grid would not fit kSheetMaxWidthPx x
+/// kSheetMaxHeightPx; the images are fitted into a square box under the grid.
 cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::SsmFrame& frame,
                       const hal::Image& left, const hal::Image& right) {
   const auto& cfg = servo.config();
   const int w = cfg.retina.width_px;
   const int h = cfg.retina.height_px;
-  const int zoom = std::max(1, 112 / std::max(w, h));
-  const int tile_w = w * zoom;
-  const int tile_h = h * zoom;
   std::vector<int> columns{0};
   const std::string s0 =
       servo.operators().maps().size() > 1 ? servo.operators().maps()[1].name.substr(4) : "";
@@ -147,11 +164,27 @@ cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::S
   const int gap = 6;
   const int margin_left = 120;
   const int header = 56;
+  const int label_rows_px = 40;  // Two lines of row labels.
   const int levels = cfg.retina.levels;
-  const int grid_w = margin_left + static_cast<int>(columns.size()) * (tile_w + gap);
-  const int grid_h = header + 2 * levels * (tile_h + gap) + gap;
-  const int view_w = (grid_w - 3 * gap) / 2;
-  const int view_h = view_w * left.height_px / left.width_px;
+  const int column_count = static_cast<int>(columns.size());
+  // The images' box is square and as wide as half the grid: at most this tall.
+  const int view_box_max = (kSheetMaxWidthPx - 3 * gap) / 2;
+  const int grid_max_h = kSheetMaxHeightPx - view_box_max - 40;
+  const double zoom = std::max(1, 112 / std::max(w, h));
+  const double fit_w =
+      static_cast<double>((kSheetMaxWidthPx - margin_left) / column_count - gap) / w;
+  const double fit_h = static_cast<double>((grid_max_h - header - gap) / (2 * levels) - gap) / h;
+  double scale = std::min({zoom, fit_w, fit_h});
+  if (scale >= 1.0) scale = std::floor(scale);
+  const int tile_w = std::max(1, static_cast<int>(std::floor(w * scale)));
+  const int tile_h = std::max(1, static_cast<int>(std::floor(h * scale)));
+  const int row_h = std::max(tile_h, label_rows_px);
+  const int grid_w = margin_left + column_count * (tile_w + gap);
+  const int grid_h = header + 2 * levels * (row_h + gap) + gap;
+  const int view_box = std::max(1, (grid_w - 3 * gap) / 2);
+  const cv::Size view = fit_inside(left.width_px, left.height_px, view_box, view_box);
+  const int view_w = view.width;
+  const int view_h = view.height;
   cv::Mat canvas(grid_h + view_h + 40, grid_w, CV_8UC3, cv::Scalar(235, 235, 235));
   label(canvas,
         "Cambio SSM: retina levels (rows) and feature maps (columns); signed maps: grey = 0", 8,
@@ -162,14 +195,14 @@ cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::S
   }
   for (int eye = 0; eye < 2; ++eye) {
     for (int k = 0; k < levels; ++k) {
-      const int y = header + (eye * levels + k) * (tile_h + gap);
+      const int y = header + (eye * levels + k) * (row_h + gap);
       const auto& g =
           frame.summary.geometry[static_cast<std::size_t>(eye)][static_cast<std::size_t>(k)];
       label(canvas, std::string(eye == 0 ? "left" : "right") + " L" + std::to_string(k), 6, y + 16);
       label(canvas, "block " + std::to_string(g.scale_px) + " px", 6, y + 34, 0.4);
       for (std::size_t c = 0; c < columns.size(); ++c) {
         const cv::Mat tile = map_tile(frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]),
-                                      w, h, columns[c] == 0, zoom);
+                                      w, h, columns[c] == 0, tile_w, tile_h);
         cv::Mat colour;
         cv::cvtColor(tile, colour, cv::COLOR_GRAY2BGR);
         colour.copyTo(canvas(
@@ -187,18 +220,19 @@ cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::S
     cv::resize(grey, small, cv::Size(view_w, view_h), 0, 0, cv::INTER_AREA);
     cv::Mat colour;
     cv::cvtColor(small, colour, cv::COLOR_GRAY2BGR);
-    const double f = static_cast<double>(view_w) / image.width_px;
+    const double fx = static_cast<double>(view_w) / image.width_px;
+    const double fy = static_cast<double>(view_h) / image.height_px;
     for (int k = 0; k < levels; ++k) {
       const auto& g =
           frame.summary.geometry[static_cast<std::size_t>(eye)][static_cast<std::size_t>(k)];
       cv::rectangle(colour,
-                    cv::Rect(static_cast<int>(std::lround(g.origin_x_px * f)),
-                             static_cast<int>(std::lround(g.origin_y_px * f)),
-                             static_cast<int>(std::lround(w * g.scale_px * f)),
-                             static_cast<int>(std::lround(h * g.scale_px * f))),
+                    cv::Rect(static_cast<int>(std::lround(g.origin_x_px * fx)),
+                             static_cast<int>(std::lround(g.origin_y_px * fy)),
+                             static_cast<int>(std::lround(w * g.scale_px * fx)),
+                             static_cast<int>(std::lround(h * g.scale_px * fy))),
                     colours[k % 8], 1);
     }
-    const int x = gap + eye * (view_w + gap);
+    const int x = gap + eye * (view_box + gap);
     colour.copyTo(canvas(cv::Rect(x, grid_h + 26, view_w, view_h)));
     label(canvas, std::string(eye == 0 ? "left" : "right") + " image, level footprints", x,
           grid_h + 18);
@@ -221,7 +255,7 @@ int run_perceive_command(std::span<const std::string> args) {
   ArgumentParser parser("perceive",
                         "--left L.png --right R.png [--fixation X,Y | --fixation-left X,Y "
                         "--fixation-right X,Y] [--config FILE] [--set key=value]... --out DIR");
-  parser.option("left", "FILE", "left image (PNG or JPEG, grey or colour, 8 or 16 bit)")
+  parser.option("left", "FILE", "left image (PNG, JPEG, PGM or PPM, grey or colour, 8 or 16 bit)")
       .option("right", "FILE", "right image, same size as the left")
       .option("fixation", "X,Y", "both retinas' fixation pixel (default: the image centre)")
       .option("fixation-left", "X,Y", "the left retina's fixation pixel")
@@ -234,6 +268,9 @@ int run_perceive_command(std::span<const std::string> args) {
     if (!parser.has(required))
       throw UsageError(std::string("perceive: --") + required + " is required");
   }
+  // Before any work: a run that cannot write its results is refused at once.
+  // Checked and claimed before the work: a bad destination fails at once.
+  OutputDirectory out(parser.value("out"), "perceive");
   if (parser.has("fixation") && (parser.has("fixation-left") || parser.has("fixation-right"))) {
     throw UsageError("perceive: give --fixation or --fixation-left/--fixation-right, not both");
   }
@@ -252,6 +289,9 @@ int run_perceive_command(std::span<const std::string> args) {
     return kExitBadInput;
   }
 
+  // OpenCV logs a warning of its own for an image it cannot decode; decode_image's message names
+  // the file and says why, so only OpenCV's errors are let through.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   hal::Image left;
   hal::Image right;
   try {
@@ -291,6 +331,20 @@ int run_perceive_command(std::span<const std::string> args) {
     std::cerr << "cambio perceive: inconsistent SSM config: " << error.what() << "\n";
     return kExitBadInput;
   }
+  // Where the images are smaller than the finest retina level with the apron its kernels read,
+  // every level samples the images' clamped borders, not the scene.
+  const int apron = servo->retina(hal::Eye::kLeft).apron();
+  const int min_width = config.retina.width_px + 2 * apron;
+  const int min_height = config.retina.height_px + 2 * apron;
+  if (left.width_px < min_width || left.height_px < min_height) {
+    std::cerr << "cambio perceive: " << parser.value("left") << " and " << parser.value("right")
+              << " are " << left.width_px << "x" << left.height_px
+              << " px; the SSM needs images of at least " << min_width << "x" << min_height
+              << " px (its finest retina level, " << config.retina.width_px << "x"
+              << config.retina.height_px << " px, with the " << apron
+              << " px its kernels read around it)\n";
+    return kExitBadInput;
+  }
   perception::SsmFrame frame = servo->make_frame();
   perception::FeatureRequest request;
   request.motion = false;  // One frame per eye: there is no previous frame to move from.
@@ -300,13 +354,6 @@ int run_perceive_command(std::span<const std::string> args) {
     return kExitFailure;
   }
 
-  const std::filesystem::path out_dir = parser.value("out");
-  std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
-  if (error) {
-    std::cerr << "cambio perceive: cannot create " << out_dir << ": " << error.message() << "\n";
-    return kExitFailure;
-  }
   const perception::SsmSummary& s = frame.summary;
   const auto& d = s.disparity;
   Json levels = Json::array();
@@ -343,13 +390,14 @@ int run_perceive_command(std::span<const std::string> args) {
         {"moments", six_digits(s.timings.moments_us)},
         {"total", six_digits(s.timings.total_us)}}},
       {"contact_sheet", "contact_sheet.png"}};
-  std::ofstream(out_dir / "result.json") << json_text(result);
+  out.stage("result.json", json_text(result));
 
   const cv::Mat sheet = contact_sheet(*servo, frame, left, right);
   hal::Image png(sheet.cols, sheet.rows, hal::PixelFormat::kRgb8);
   cv::Mat rgb(sheet.rows, sheet.cols, CV_8UC3, png.pixels.data());
   cv::cvtColor(sheet, rgb, cv::COLOR_BGR2RGB);
-  write_png((out_dir / "contact_sheet.png").string(), png);
+  out.stage("contact_sheet.png", encode_png(png));
+  out.commit();
 
   char disparity_text[32] = "invalid";
   if (d.valid) {
@@ -357,8 +405,8 @@ int run_perceive_command(std::span<const std::string> args) {
                   static_cast<double>(d.disparity_px));
   }
   std::printf("disparity %s px, confidence %.2f (level %d); wrote %s and %s\n", disparity_text,
-              static_cast<double>(d.confidence), d.level, (out_dir / "result.json").c_str(),
-              (out_dir / "contact_sheet.png").c_str());
+              static_cast<double>(d.confidence), d.level, (out.path() / "result.json").c_str(),
+              (out.path() / "contact_sheet.png").c_str());
   return kExitOk;
 }
 

@@ -183,9 +183,11 @@ int run_perception_bench_command(std::span<const std::string> args) {
   ArgumentParser parser("perception-bench", "[--json] [--repeats N]");
   parser.flag("json", "print one JSON object with the medians and ratios")
       .option("repeats", "N",
-              "timed runs per figure (default 300; the 64x64 SSM and OpenCV use N/5)");
+              "timed runs per figure, 5 to 100000 (default 300; the 64x64 SSM and OpenCV use N/5)");
   if (!parser.parse(args)) return kExitOk;
-  const int repeats = static_cast<int>(std::max(5LL, parser.integer("repeats", 300)));
+  const int repeats = static_cast<int>(parser.integer(
+      "repeats", 300, config::Range::closed(5, 100'000),
+      "a median needs at least 5 runs; at 100000 a run already takes about an hour"));
   // One thread everywhere: the SSM is one loop on one core, so OpenCV gets one core too.
   cv::setNumThreads(1);
 

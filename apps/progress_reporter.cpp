@@ -32,8 +32,16 @@ void ProgressReporter::update(double done_s, double wall_elapsed_s) {
   }
 }
 
-void ProgressReporter::finish(double wall_elapsed_s) {
-  update(total_s_, wall_elapsed_s);
+void ProgressReporter::finish(double done_s, double wall_elapsed_s) {
+  // The last line shows where the run really ended: an interrupted run never claims 100%.
+  last_decile_ = -1;
+  if (!terminal_ && done_s < total_s_) {
+    const double fraction = total_s_ > 0 ? std::clamp(done_s / total_s_, 0.0, 1.0) : 1.0;
+    std::fprintf(stderr, "%s: stopped at %.0f%%  %.1f/%.1f s\n", label_.c_str(), fraction * 100.0,
+                 done_s, total_s_);
+    return;
+  }
+  update(done_s, wall_elapsed_s);
   if (terminal_) std::fputc('\n', stderr);
 }
 

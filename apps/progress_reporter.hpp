@@ -11,7 +11,8 @@ class ProgressReporter {
  public:
   ProgressReporter(std::string label, double total_s);
   void update(double done_s, double wall_elapsed_s);
-  void finish(double wall_elapsed_s);
+  /// The final line, at the run time actually done (`done_s` < total when interrupted).
+  void finish(double done_s, double wall_elapsed_s);
 
  private:
   std::string label_;

@@ -22,6 +22,7 @@
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "image_files.hpp"
+#include "output_directory.hpp"
 
 namespace cambio::app {
 
@@ -63,13 +64,12 @@ JointPose parse_pose(const std::string& option, const std::string& text) {
   return pose;
 }
 
-void write_depth_mm(const std::string& path, const std::vector<float>& depth_m, int width,
-                    int height) {
+std::vector<std::uint8_t> depth_mm_png(const std::vector<float>& depth_m, int width, int height) {
   std::vector<std::uint16_t> millimetres(depth_m.size());
   std::transform(depth_m.begin(), depth_m.end(), millimetres.begin(), [](float metres) {
     return static_cast<std::uint16_t>(std::clamp(std::lround(metres * 1000.0f), 0L, 65535L));
   });
-  write_png16(path, millimetres, width, height);
+  return encode_png16(millimetres, width, height);
 }
 
 }  // namespace
@@ -87,7 +87,9 @@ int run_render_command(std::span<const std::string> args) {
       .flag("no-shadows", "render the overview without shadows");
   if (!parser.parse(args)) return kExitOk;
   if (!parser.has("scene")) throw UsageError("render: --scene SCENE is required");
-  if (!parser.has("out")) throw UsageError("render: --out DIR is required");
+  // Before any work: a run that cannot write its pictures is refused at once.
+  // Checked and claimed before the work: a bad destination fails at once.
+  OutputDirectory out(parser.value("out"), "render");
 
   // `joints.<name>=<value>` (exactly two components) is a pose; a longer key path
   // (joints.neck_pan.max_velocity_rad_s=3) overrides the rig. A joint entry is a map in the rig,
@@ -136,8 +138,6 @@ int run_render_command(std::span<const std::string> args) {
     it->initial_position_rad = pose.position_rad;
   }
 
-  const std::filesystem::path out_dir = parser.value("out");
-  std::filesystem::create_directories(out_dir);
   const auto started = std::chrono::steady_clock::now();
 
   // Nothing runs in time here: the backend gets a clock that stays at zero.
@@ -149,6 +149,8 @@ int run_render_command(std::span<const std::string> args) {
   try {
     backend = std::make_unique<sim::SimBackend>(rig, scene, config::hardware_description(rig),
                                                 hal::BackendContext{&clock}, mjcf_options);
+    // Made now, not at the first camera: the renderer refuses cameras larger than it can draw.
+    (void)backend->renderer();
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -156,12 +158,12 @@ int run_render_command(std::span<const std::string> args) {
   if (parser.has("mjcf")) {
     std::ofstream mjcf(parser.value("mjcf"));
     mjcf << backend->world().mjcf();
-    if (!mjcf) throw std::runtime_error("could not write " + parser.value("mjcf"));
+    mjcf.close();
+    if (mjcf.fail()) throw OutputError("--mjcf " + parser.value("mjcf") + ": could not write it");
   }
   // The pose is the initial state: render it as it is, without letting gravity act first.
   backend->activate();
 
-  std::vector<std::string> written;
   // The eyes through the HAL camera pipeline, exactly what perception would receive.
   std::vector<std::pair<std::string, std::string>> views;  // camera, file stem
   if (rig.stereo) {
@@ -179,9 +181,7 @@ int run_render_command(std::span<const std::string> args) {
                 << "\n";
       return kExitFailure;
     }
-    const std::string path = (out_dir / (stem + ".png")).string();
-    write_png(path, image);
-    written.push_back(path);
+    out.stage(stem + ".png", encode_png(image));
   }
   if (!views.empty()) {
     // Ground-truth depth of the left (or only) eye, in millimetres.
@@ -190,9 +190,7 @@ int run_render_command(std::span<const std::string> args) {
     std::vector<float> depth_m;
     backend->ground_truth().render(camera_name, 0, 0, sim::ViewOptions{}, rgb, &depth_m);
     const std::string stem = rig.stereo ? "depth_left" : "depth_" + camera_name;
-    const std::string path = (out_dir / (stem + ".png")).string();
-    write_depth_mm(path, depth_m, rgb.width_px, rgb.height_px);
-    written.push_back(path);
+    out.stage(stem + ".png", depth_mm_png(depth_m, rgb.width_px, rgb.height_px));
   }
   {
     sim::ViewOptions view;
@@ -202,16 +200,15 @@ int run_render_command(std::span<const std::string> args) {
     hal::Image overview;
     backend->ground_truth().render(sim::kOverviewCameraName, kOverviewWidthPx, kOverviewHeightPx,
                                    view, overview, nullptr);
-    const std::string path = (out_dir / "overview.png").string();
-    write_png(path, overview);
-    written.push_back(path);
+    out.stage("overview.png", encode_png(overview));
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::cout << "rendered rig " << rig.name << " in scene " << scene.name << " ("
             << backend->renderer().gl_renderer_name() << ", " << static_cast<int>(seconds * 1000)
             << " ms)\n";
-  for (const auto& path : written) std::cout << "  " << path << "\n";
+  out.commit();
+  for (const auto& name : out.files()) std::cout << "  " << (out.path() / name).string() << "\n";
   return kExitOk;
 }
 

@@ -1,9 +1,8 @@
 // `cambio run EXPERIMENT.yaml`: the main job (main_job.hpp) with its report.
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <csignal>
 #include <iostream>
-#include <sstream>
+#include <optional>
 
 #include "argument_parser.hpp"
 #include "builtin_backends.hpp"
@@ -12,15 +11,27 @@
 #include "image_files.hpp"
 #include "json_output.hpp"
 #include "main_job.hpp"
+#include "output_directory.hpp"
 #include "progress_reporter.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
 namespace {
 
-Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result) {
+struct RunOutcome {
+  std::string name;  ///< completed, goal_failed, device_fault, interrupted.
+  int exit_status = 0;
+  std::string signal_name;  ///< Set when a signal stopped the run.
+};
+
+Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result,
+                  const RunOutcome& outcome) {
   Json json;
   json["experiment"] = experiment.name;
+  json["outcome"] = outcome.name;
+  json["exit_status"] = outcome.exit_status;
+  json["stopped_by"] = outcome.signal_name.empty() ? Json(nullptr) : Json(outcome.signal_name);
+  json["duration_s"] = experiment.duration_s;
   json["rig"] = experiment.rig.name;
   json["executor"] = result.realtime ? "realtime" : "lockstep";
   json["seed"] = experiment.seed;
@@ -57,6 +68,22 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
   return json;
 }
 
+/// How the run ended and the exit status that says so. Precedence: a signal over a device fault
+/// over a failed goal.
+RunOutcome outcome_of(const MainJobResult& result, bool goal_failed) {
+  if (result.stopped_by_signal) {
+    const int signal_number = stop_signal_number();
+    return {"interrupted", exit_status_for_signal(signal_number),
+            signal_number == SIGINT    ? "SIGINT"
+            : signal_number == SIGHUP  ? "SIGHUP"
+            : signal_number == SIGTERM ? "SIGTERM"
+                                       : "signal " + std::to_string(signal_number)};
+  }
+  if (result.fault_latched_at_end) return {"device_fault", kExitDeviceFault, ""};
+  if (goal_failed) return {"goal_failed", kExitFailure, ""};
+  return {"completed", kExitOk, ""};
+}
+
 }  // namespace
 
 int run_run_command(std::span<const std::string> args) {
@@ -77,6 +104,10 @@ int run_run_command(std::span<const std::string> args) {
     report_config_error(error);
     return kExitBadInput;
   }
+
+  // The destination is checked and claimed before any work: a bad --out fails at once.
+  std::optional<OutputDirectory> out;
+  if (parser.has("out")) out.emplace(parser.value("out"), "run");
 
   hal::BackendFactory factory;
   std::unique_ptr<MainJob> job;
@@ -101,8 +132,7 @@ int run_run_command(std::span<const std::string> args) {
   ProgressReporter progress("run", experiment.duration_s);
   const MainJobResult result =
       job->run(stop, [&](double done_s, double wall_s) { progress.update(done_s, wall_s); });
-  progress.finish(result.wall_s);
-  if (result.stopped_by_signal) std::cerr << "cambio run: stopped by signal\n";
+  progress.finish(result.simulated_s, result.wall_s);
 
   std::cout << runtime::format_statistics_table(result.loops.data(), result.loops.size());
   std::cout << "camera frames grabbed: " << result.camera_frames << " (" << result.stereo_pairs
@@ -119,7 +149,7 @@ int run_run_command(std::span<const std::string> args) {
               << "the fovea " << (d.valid ? std::to_string(d.disparity_px) + " px" : "invalid")
               << " (confidence " << d.confidence << ")\n";
   }
-  int exit_code = kExitOk;
+  bool goal_failed = false;
   if (result.vergence) {
     const double goal = experiment.vergence.goal_disparity_px;
     const bool verged = result.vergence->valid && std::abs(result.vergence->disparity_px) <= goal;
@@ -130,21 +160,33 @@ int run_run_command(std::span<const std::string> args) {
                   : verged  ? "verged"
                             : "NOT verged")
               << "\n";
-    if (goal > 0 && !verged && !result.stopped_by_signal) exit_code = kExitFailure;
+    goal_failed = goal > 0 && !verged;
+  }
+  for (const auto& loop : result.loops) {
+    if (runtime::passes_allocation_gate(loop)) continue;
+    std::cerr << "cambio run: warning: loop '" << loop.name << "' allocated " << loop.allocations
+              << " times in update() without declaring it\n";
   }
 
-  if (parser.has("out")) {
-    const std::filesystem::path out_dir = parser.value("out");
-    std::filesystem::create_directories(out_dir);
+  const RunOutcome outcome = outcome_of(result, goal_failed);
+  if (outcome.name == "interrupted") {
+    std::cerr << "cambio run: interrupted by " << outcome.signal_name << " at "
+              << result.simulated_s << " of " << experiment.duration_s << " s\n";
+  } else if (outcome.name == "device_fault") {
+    std::cerr << "cambio run: a device fault stopped the run (joints held since)\n";
+  }
+  if (out) {
     const auto frames = job->last_frames();
     for (std::size_t i = 0; i < frames.size(); ++i) {
       if (frames[i]->sequence == 0) continue;
-      write_png((out_dir / (job->cameras()[i].name + ".png")).string(), *frames[i]);
+      out->stage(job->cameras()[i].name + ".png", encode_png(*frames[i]));
     }
-    std::ofstream(out_dir / "summary.json") << json_text(summary_json(experiment, result));
-    std::cerr << "cambio run: wrote " << out_dir.string() << "\n";
+    out->stage("summary.json", json_text(summary_json(experiment, result, outcome)));
+    out->commit();
+    std::cerr << "cambio run: wrote " << out->path().string() << " (" << out->files().size()
+              << " files)\n";
   }
-  return exit_code;
+  return outcome.exit_status;
 }
 
 }  // namespace cambio::app

@@ -1,18 +1,22 @@
 #include "stop_signal.hpp"
 
 #include <unistd.h>
+
 #include <csignal>
 
 namespace cambio::app {
 namespace {
 
 std::atomic<bool> g_stop_requested{false};
+std::atomic<int> g_stop_signal{0};
 
 extern "C" void on_stop_signal(int signal_number) {
   if (g_stop_requested.exchange(true)) {
     std::signal(signal_number, SIG_DFL);
     std::raise(signal_number);
+    return;
   }
+  g_stop_signal.store(signal_number);
 }
 
 }  // namespace
@@ -21,9 +25,19 @@ const std::atomic<bool>& install_stop_signal_handlers() {
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    sigaction(signal_number, &action, nullptr);
+  }
   return g_stop_requested;
+}
+
+int stop_signal_number() {
+  return g_stop_signal.load();
+}
+
+int exit_status_for_signal(int signal_number) {
+  if (signal_number == SIGHUP) return 128 + SIGTERM;
+  return 128 + signal_number;
 }
 
 }  // namespace cambio::app

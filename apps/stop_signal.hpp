@@ -4,9 +4,17 @@
 
 namespace cambio::app {
 
-/// Installs SIGINT and SIGTERM handlers that set the returned flag (async-signal-safe), so
-/// executors finish their cycle, deactivate their loops and report before the program exits.
-/// A second signal while stopping ends the program at once.
+/// Installs SIGINT, SIGTERM and SIGHUP handlers that set the returned flag (async-signal-safe),
+/// so executors finish their cycle, deactivate their loops and backends, and the command writes
+/// what it has before exiting. A second signal while stopping ends the program at once (the
+/// default action of that signal).
 const std::atomic<bool>& install_stop_signal_handlers();
+
+/// The signal that stopped the run (0 if none).
+int stop_signal_number();
+
+/// The exit status for a run stopped by `signal_number`: 130 for SIGINT, 143 for SIGTERM and for
+/// SIGHUP (a closed terminal is a request to terminate), 128 + n otherwise.
+int exit_status_for_signal(int signal_number);
 
 }  // namespace cambio::app

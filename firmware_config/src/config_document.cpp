@@ -1,8 +1,16 @@
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
 #include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <charconv>
+#include <limits>
 #include <sstream>
+#include <system_error>
+
+#include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 
 #include "cambio/config/map_reader.hpp"
 #include "format.hpp"
@@ -17,8 +25,14 @@ ConfigIssue issue_at(const std::string& file, const YAML::Mark& mark, std::strin
                      std::move(message)};
 }
 
-bool is_index(std::string_view text) {
-  return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
+/// The list index `text` names, if it is one; an index too large for size_t is past any end.
+std::optional<std::size_t> parse_index(std::string_view text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string_view::npos) {
+    return std::nullopt;
+  }
+  std::size_t index = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), index);
+  return error == std::errc{} ? index : std::numeric_limits<std::size_t>::max();
 }
 
 std::string describe_kind(const YAML::Node& node) {
@@ -32,45 +46,178 @@ std::string describe_kind(const YAML::Node& node) {
   }
 }
 
+/// The end of "cannot read the file: ..." for a failed stat() or open().
+std::string describe_errno(int error) {
+  switch (error) {
+    case ENOENT:
+      return "it does not exist";
+    case EACCES:
+    case EPERM:
+      return "permission denied";
+    case ENAMETOOLONG:
+      return "the name is too long";
+    case ELOOP:
+      return "too many levels of symbolic links (a link that leads back to itself?)";
+    case ENOTDIR:
+      return "a folder on its path is not a folder";
+    default:
+      return std::generic_category().message(error);
+  }
+}
+
+/// The end of "cannot read the file: ..." for what is not a regular file.
+std::string describe_not_regular(mode_t mode) {
+  if (S_ISDIR(mode)) return "it is a directory, expected a YAML file";
+  std::string kind = "a special file";
+  if (S_ISCHR(mode)) kind = "a character device (such as /dev/zero)";
+  if (S_ISBLK(mode)) kind = "a block device";
+  if (S_ISFIFO(mode)) kind = "a FIFO (named pipe)";
+  if (S_ISSOCK(mode)) kind = "a socket";
+  return "it is " + kind + ", expected a regular file";
+}
+
+std::string describe_too_large(std::string_view what, std::uintmax_t bytes) {
+  return std::string(what) + " " + std::to_string(bytes) +
+         " bytes, more than a config file's most of " + std::to_string(kMaxConfigFileBytes) +
+         " (1 MiB)";
+}
+
+/// Closes a file descriptor when it goes out of scope.
+class FileDescriptor {
+ public:
+  FileDescriptor() = default;
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  ~FileDescriptor() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int get() const { return fd_; }
+  void reset(int fd) { fd_ = fd; }
+
+ private:
+  int fd_ = -1;
+};
+
+/// Opens `path` for reading if it is a regular file of at most kMaxConfigFileBytes; else why not.
+std::optional<std::string> open_config_file(const std::string& path, FileDescriptor& file) {
+  // stat() first: opening a device or a FIFO can block or act on it.
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) return describe_errno(errno);
+  if (!S_ISREG(info.st_mode)) return describe_not_regular(info.st_mode);
+  if (static_cast<std::uintmax_t>(info.st_size) > kMaxConfigFileBytes) {
+    return describe_too_large("it holds", static_cast<std::uintmax_t>(info.st_size));
+  }
+  // O_NONBLOCK: should the path have become a FIFO since stat(), open() does not wait for it.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) return describe_errno(errno);
+  file.reset(fd);
+  if (::fstat(fd, &info) != 0) return describe_errno(errno);
+  if (!S_ISREG(info.st_mode)) return describe_not_regular(info.st_mode);
+  return std::nullopt;
+}
+
+[[noreturn]] void throw_unreadable(const std::string& path, const std::string& problem) {
+  throw ConfigError({ConfigIssue{path, 0, 0, "", "cannot read the file: " + problem}});
+}
+
+/// Where each document of a YAML stream starts, and nothing else of it.
+class DocumentStarts final : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { start_ = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  const YAML::Mark& start() const { return start_; }
+
+ private:
+  YAML::Mark start_ = YAML::Mark::null_mark();
+};
+
+/// The one YAML document of `text` (a null node for none); throws ConfigError (in `name`) for
+/// a syntax error, nesting deeper than the parser takes, or a second document.
+YAML::Node parse_one_document(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+    // YAML::LoadAll would say how many documents follow, but a ',' where a document starts
+    // makes yaml-cpp return an empty document there again and again, without end (LoadAll
+    // grows without bound); one more document is all that needs seeing.
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentStarts documents;
+    if (parser.HandleNextDocument(documents) && parser.HandleNextDocument(documents)) {
+      const YAML::Mark& at = documents.start();
+      const bool stray_comma = at.pos >= 0 && static_cast<std::size_t>(at.pos) < text.size() &&
+                               text[static_cast<std::size_t>(at.pos)] == ',';
+      throw ConfigError({issue_at(name, at,
+                                  stray_comma ? "invalid YAML: a ',' outside any list or map"
+                                              : "expected one YAML document, found a second "
+                                                "(a line '---' starts it)")});
+    }
+  } catch (const YAML::DeepRecursion& error) {
+    // yaml-cpp's own message for it says "bad file", and its column is where the scanner had
+    // got to (the line's end): the line alone is given.
+    ConfigIssue issue = issue_at(name, error.mark,
+                                 "invalid YAML: nested " + std::to_string(error.depth()) +
+                                     " levels deep, more than the YAML parser takes (config "
+                                     "files nest a few levels)");
+    issue.column = 0;
+    throw ConfigError({std::move(issue)});
+  } catch (const YAML::Exception& error) {
+    throw ConfigError({issue_at(name, error.mark, "invalid YAML: " + error.msg)});
+  }
+  return root;
+}
+
 }  // namespace
+
+std::optional<std::string> config_file_problem(const std::string& path) {
+  FileDescriptor file;
+  return open_config_file(path, file);
+}
 
 ConfigDocument::ConfigDocument(YAML::Node root, std::string file)
     : root_(root), file_(std::move(file)), issues_(std::make_shared<IssueList>()) {}
 
 ConfigDocument ConfigDocument::load_file(const std::string& path,
                                          const std::vector<ConfigOverride>& overrides) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) {
-    throw ConfigError({ConfigIssue{path, 0, 0, "", "cannot read the file: it does not exist"}});
+  FileDescriptor file;
+  if (const auto problem = open_config_file(path, file)) throw_unreadable(path, *problem);
+  // Read one byte past the limit: a file that grew since fstat() is refused, not cut.
+  std::string text;
+  std::array<char, 64 * 1024> buffer{};
+  while (text.size() <= kMaxConfigFileBytes) {
+    const ssize_t n = ::read(file.get(), buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw_unreadable(path, describe_errno(errno));
+    if (n == 0) break;
+    text.append(buffer.data(), static_cast<std::size_t>(n));
   }
-  if (std::filesystem::is_directory(path, error)) {
-    throw ConfigError({ConfigIssue{
-        path, 0, 0, "", "cannot read the file: it is a directory, expected a YAML file"}});
+  if (text.size() > kMaxConfigFileBytes) {
+    throw_unreadable(path, describe_too_large("it grew past", text.size()));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError({ConfigIssue{path, 0, 0, "",
-                                   std::string("cannot read the file: ") + std::strerror(errno)}});
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path, overrides);
+  return parse(text, path, overrides);
 }
 
 ConfigDocument ConfigDocument::from_string(const std::string& text, const std::string& name,
                                            const std::vector<ConfigOverride>& overrides) {
+  if (text.size() > kMaxConfigFileBytes) {
+    throw_unreadable(name, describe_too_large("it holds", text.size()));
+  }
   return parse(text, name, overrides);
 }
 
 ConfigDocument ConfigDocument::parse(const std::string& text, const std::string& name,
                                      const std::vector<ConfigOverride>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& error) {
-    throw ConfigError({issue_at(name, error.mark, "invalid YAML: " + error.msg)});
-  }
-  ConfigDocument document(root, name);
+  ConfigDocument document(parse_one_document(text, name), name);
   for (const auto& override_value : overrides) document.apply(override_value);
   return document;
 }
@@ -79,12 +226,20 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
   const auto fail = [&](std::string message) {
     issues_->add(ConfigIssue{"--set", 0, 0, override_value.key_path, std::move(message)});
   };
+  if (override_value.value.size() > kMaxOverrideValueBytes) {
+    fail("expected a value of at most " + std::to_string(kMaxOverrideValueBytes) +
+         " bytes (a number, a list, a map of a few keys), found " +
+         std::to_string(override_value.value.size()) + " bytes");
+    return;
+  }
   YAML::Node value;
   try {
-    value = YAML::Load(override_value.value);
-  } catch (const YAML::Exception& error) {
-    fail("expected a YAML value, found " + in_quotes(override_value.value) + " (" + error.msg +
-         ")");
+    value = parse_one_document(override_value.value, "--set");
+  } catch (const ConfigError& error) {
+    // "invalid YAML: ..." or "expected one YAML document, found 2 ..." (a value holding "---"
+    // would otherwise set only what precedes it).
+    fail("expected a YAML value, found " + in_quotes(override_value.value) + " (" +
+         error.issues().front().message + ")");
     return;
   }
   if (!root_.IsDefined() || root_.IsNull()) root_.reset(YAML::Node(YAML::NodeType::Map));
@@ -105,28 +260,29 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
   YAML::Node current;
   current.reset(root_);
   std::string path;
+  bool created = false;  // Whether a map on the path is one this override made up.
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string& name = names[i];
     const bool last = i + 1 == names.size();
-    if (current.IsSequence() && is_index(name)) {
-      const std::size_t index = std::stoul(name);
-      if (index >= current.size()) {
-        fail("cannot set item " + name + " of " + path + ": the list has " +
+    const auto index = parse_index(name);
+    if (current.IsSequence() && index) {
+      if (*index >= current.size()) {
+        fail("cannot set item " + echoed(name) + " of " + path + ": the list has " +
              std::to_string(current.size()) + " items");
         return;
       }
       path += "[" + name + "]";
       if (last) {
-        current[index] = value;
+        current[*index] = value;
       } else {
-        YAML::Node next = current[index];
+        YAML::Node next = current[*index];
         current.reset(next);
       }
       continue;
     }
     if (!current.IsMap()) {
-      fail("cannot set " + name + " under " + path + ": " + path + " is " + describe_kind(current) +
-           ", not a map");
+      fail("cannot set " + echoed(name) + " under " + path + ": " + path + " is " +
+           describe_kind(current) + ", not a map");
       return;
     }
     path += (path.empty() ? "" : ".") + name;
@@ -136,6 +292,14 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
     }
     YAML::Node next = current[name];
     if (!next.IsDefined() || next.IsNull()) {
+      if (!next.IsDefined() && !created) {
+        std::vector<std::string> file_keys;
+        for (auto it = current.begin(); it != current.end(); ++it) {
+          if (it->first.IsScalar()) file_keys.push_back(it->first.Scalar());
+        }
+        issues_->mark_created(path, std::move(file_keys));
+        created = true;
+      }
       current[name] = YAML::Node(YAML::NodeType::Map);
       next.reset(current[name]);
     }

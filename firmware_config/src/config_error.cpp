@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "format.hpp"
+
 namespace cambio::config {
 
 namespace {
@@ -22,7 +24,9 @@ std::string ConfigIssue::to_string() const {
     if (column > 0) text += ":" + std::to_string(column);
   }
   text += ": ";
-  if (!key_path.empty()) text += key_path + ": ";
+  // A key path names keys of the file, which may be long: cut like an echoed value, with room
+  // for a few levels of ordinary names.
+  if (!key_path.empty()) text += echoed(key_path, 2 * kMaxEchoedChars) + ": ";
   return text + message;
 }
 

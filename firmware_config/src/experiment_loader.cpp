@@ -3,22 +3,16 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_loader.hpp"
+#include "format.hpp"
 
 namespace cambio::config {
 
-ExperimentConfig load_experiment(const std::string& path,
-                                 const std::vector<ConfigOverride>& overrides) {
-  std::vector<ConfigOverride> experiment_overrides;
-  std::vector<ConfigOverride> rig_overrides;
-  for (const auto& override_entry : overrides) {
-    if (override_entry.key_path.starts_with("rig.")) {
-      rig_overrides.push_back({override_entry.key_path.substr(4), override_entry.value});
-    } else {
-      experiment_overrides.push_back(override_entry);
-    }
-  }
+namespace {
 
-  ConfigDocument document = ConfigDocument::load_file(path, experiment_overrides);
+/// Reads the experiment in `document` (from file `path`, against whose folder relative paths
+/// resolve), loads the rig it names with `rig_overrides`, and throws every problem of both.
+ExperimentConfig read_experiment(ConfigDocument& document, const std::string& path,
+                                 const std::vector<ConfigOverride>& rig_overrides) {
   MapReader root = document.root();
   MapReader experiment = root.map("experiment");
   root.finish();
@@ -30,6 +24,20 @@ ExperimentConfig load_experiment(const std::string& path,
     if (relative.empty() || std::filesystem::path(relative).is_absolute()) return relative;
     return (folder / relative).lexically_normal().string();
   };
+  // A file the experiment names is checked here, so that a problem with it (missing, a
+  // directory, unreadable, a name too long, a symbolic link loop) is reported at the key that
+  // names it. Returns whether it can be read.
+  auto check_named_file = [&](std::string_view key, std::string_view what, const std::string& given,
+                              const std::string& resolved) {
+    if (resolved.empty()) return false;
+    const auto problem = config_file_problem(resolved);
+    if (!problem) return true;
+    std::string message =
+        "expected a readable " + std::string(what) + " file, found " + in_quotes(given);
+    if (resolved != given) message += " (resolved to " + in_quotes(resolved) + ")";
+    experiment.error(key, message + ": " + *problem);
+    return false;
+  };
 
   config.name = experiment.text("name");
   const std::string rig_file = experiment.text("rig");
@@ -40,8 +48,11 @@ ExperimentConfig load_experiment(const std::string& path,
       experiment.choice_or("executor", {"lockstep", "realtime"}, "lockstep") == "realtime"
           ? ExecutorKind::kRealtime
           : ExecutorKind::kLockstep;
-  config.duration_s = experiment.number("duration_s", Range::positive());
-  config.perception_path = resolve(experiment.text_or("perception", ""));
+  config.duration_s = experiment.number(
+      "duration_s", Range{0.0, kMaxExperimentDuration_s, true, false}.because(
+                        "a day; a run's cycles, progress and records grow with its duration"));
+  const std::string perception_file = experiment.text_or("perception", "");
+  config.perception_path = resolve(perception_file);
   config.task = experiment.choice_or("task", {"hold", "vergence"}, "hold") == "vergence"
                     ? ControlTask::kVergence
                     : ControlTask::kHold;
@@ -60,23 +71,14 @@ ExperimentConfig load_experiment(const std::string& path,
   }
   config.seed = static_cast<std::uint64_t>(
       experiment.integer_or("seed", 0, Range::closed(0, 9.007199254740992e15)));
-  if (!config.rig_path.empty() && !std::filesystem::exists(config.rig_path)) {
-    experiment.error("rig", "expected an existing rig file, found \"" + rig_file +
-                                "\" (resolved to " + config.rig_path + ")");
-  }
-  if (!config.perception_path.empty() && !std::filesystem::exists(config.perception_path)) {
-    experiment.error("perception", "expected an existing perception config file, found \"" +
-                                       config.perception_path + "\"");
-  }
-  if (!config.scene_path.empty() && !std::filesystem::exists(config.scene_path)) {
-    experiment.error("scene", "expected an existing scene file, found \"" + scene_file +
-                                  "\" (resolved to " + config.scene_path + ")");
-  }
+  const bool rig_readable = check_named_file("rig", "rig", rig_file, config.rig_path);
+  check_named_file("perception", "perception config", perception_file, config.perception_path);
+  check_named_file("scene", "scene", scene_file, config.scene_path);
   // The initial pose names rig joints, so it is checked once the rig is loaded. Problems of
   // both files are reported together.
   std::optional<MapReader> pose = experiment.optional_map("initial_pose");
   bool rig_loaded = false;
-  if (!config.rig_path.empty() && std::filesystem::exists(config.rig_path)) {
+  if (rig_readable) {
     try {
       config.rig = load_rig(config.rig_path, rig_overrides);
       rig_loaded = true;
@@ -89,18 +91,12 @@ ExperimentConfig load_experiment(const std::string& path,
     document.issues()->throw_if_any();
   }
   if (pose) {
+    // Every joint's key is read, so that a key naming no joint is offered all of them.
     for (auto& joint : config.rig.joints) {
-      if (!pose->has(joint.name + "_deg") && !pose->has(joint.name + "_rad")) continue;
-      const double position_rad = pose->angle_rad(joint.name);
-      if (position_rad < joint.min_position_rad || position_rad > joint.max_position_rad) {
-        pose->error(joint.name + (pose->has(joint.name + "_deg") ? "_deg" : "_rad"),
-                    "expected a position within the joint's limits [" +
-                        std::to_string(joint.min_position_rad) + ", " +
-                        std::to_string(joint.max_position_rad) + "] rad, found " +
-                        std::to_string(position_rad) + " rad");
-        continue;
-      }
-      joint.initial_position_rad = position_rad;
+      joint.initial_position_rad =
+          pose->angle_rad_or(joint.name, joint.initial_position_rad,
+                             Range::closed(joint.min_position_rad, joint.max_position_rad)
+                                 .because("the joint's limits in the rig"));
     }
     pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
   }
@@ -113,6 +109,37 @@ ExperimentConfig load_experiment(const std::string& path,
   experiment.finish();
   document.issues()->throw_if_any();
   return config;
+}
+
+/// Splits `overrides` into the experiment's and the rig's (`rig.` prefix removed).
+std::pair<std::vector<ConfigOverride>, std::vector<ConfigOverride>> split_overrides(
+    const std::vector<ConfigOverride>& overrides) {
+  std::vector<ConfigOverride> experiment_overrides;
+  std::vector<ConfigOverride> rig_overrides;
+  for (const auto& override_entry : overrides) {
+    if (override_entry.key_path.starts_with("rig.")) {
+      rig_overrides.push_back({override_entry.key_path.substr(4), override_entry.value});
+    } else {
+      experiment_overrides.push_back(override_entry);
+    }
+  }
+  return {experiment_overrides, rig_overrides};
+}
+
+}  // namespace
+
+ExperimentConfig load_experiment(const std::string& path,
+                                 const std::vector<ConfigOverride>& overrides) {
+  const auto [experiment_overrides, rig_overrides] = split_overrides(overrides);
+  ConfigDocument document = ConfigDocument::load_file(path, experiment_overrides);
+  return read_experiment(document, path, rig_overrides);
+}
+
+ExperimentConfig load_experiment_from_string(const std::string& yaml, const std::string& name,
+                                             const std::vector<ConfigOverride>& overrides) {
+  const auto [experiment_overrides, rig_overrides] = split_overrides(overrides);
+  ConfigDocument document = ConfigDocument::from_string(yaml, name, experiment_overrides);
+  return read_experiment(document, name, rig_overrides);
 }
 
 }  // namespace cambio::config

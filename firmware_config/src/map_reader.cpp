@@ -40,9 +40,43 @@ void IssueList::mark_overridden(std::string key_path) {
   overridden_paths_.push_back(std::move(key_path));
 }
 
+void IssueList::mark_created(std::string key_path, std::vector<std::string> file_keys) {
+  created_maps_.push_back({key_path, std::move(file_keys)});
+  mark_overridden(std::move(key_path));
+}
+
 void IssueList::throw_if_any() const {
   if (issues_.empty()) return;
-  std::vector<ConfigIssue> sorted = issues_;
+  // Keys missing under a map that only an override made up point at the override's typo.
+  std::vector<ConfigIssue> sorted;
+  std::vector<std::vector<std::string>> missing(created_maps_.size());
+  for (const auto& issue : issues_) {
+    const auto created =
+        std::find_if(created_maps_.begin(), created_maps_.end(), [&issue](const CreatedMap& map) {
+          return issue.key_path.size() > map.key_path.size() &&
+                 is_at_or_under(issue.key_path, map.key_path) &&
+                 issue.message.starts_with(kMissingKey);
+        });
+    if (created == created_maps_.end()) {
+      sorted.push_back(issue);
+      continue;
+    }
+    const auto index = static_cast<std::size_t>(created - created_maps_.begin());
+    missing[index].push_back(issue.key_path.substr(created->key_path.size() + 1));
+  }
+  for (std::size_t i = 0; i < created_maps_.size(); ++i) {
+    if (missing[i].empty()) continue;
+    const CreatedMap& map = created_maps_[i];
+    const std::string name = map.key_path.substr(map.key_path.rfind('.') + 1);
+    std::string message = "--set made up " + in_quotes(name) +
+                          ", which the file does not have, and it lacks " + join(missing[i]);
+    if (const auto suggestion = closest_name(name, map.file_keys)) {
+      message += "; did you mean " + in_quotes(*suggestion) + "?";
+    } else if (!map.file_keys.empty()) {
+      message += "; the file has " + join(map.file_keys);
+    }
+    sorted.push_back(ConfigIssue{"--set", 0, 0, map.key_path, std::move(message)});
+  }
   std::stable_sort(sorted.begin(), sorted.end(), [](const ConfigIssue& a, const ConfigIssue& b) {
     return std::tie(a.file, a.line, a.column) < std::tie(b.file, b.line, b.column);
   });
@@ -83,8 +117,18 @@ std::string expected(std::string_view what, const Range& range) {
   return std::string(what) + (bounds.empty() ? "" : " " + bounds);
 }
 
+/// "expected a number in [0, 1], found "x"" for a value of the wrong kind; for a number out of
+/// range, "expected a number in [0, 1] (<the range's reason>), found 2".
+std::string unexpected(std::string_view what, const Range& range, bool is_number,
+                       const std::string& found_text) {
+  std::string message = "expected " + expected(what, range);
+  if (is_number && !range.reason.empty()) message += " (" + std::string(range.reason) + ")";
+  return message + ", found " + found_text;
+}
+
 Range scaled(const Range& range, double factor) {
-  return {range.min * factor, range.max * factor, range.min_exclusive, range.max_exclusive};
+  return {range.min * factor, range.max * factor, range.min_exclusive, range.max_exclusive,
+          range.reason};
 }
 
 bool is_plain_scalar(const YAML::Node& node) {
@@ -129,7 +173,8 @@ std::optional<bool> parse_boolean(const YAML::Node& node) {
 std::string found(const YAML::Node& node) {
   switch (node.Type()) {
     case YAML::NodeType::Scalar:
-      return is_plain_scalar(node) && parse_number(node) ? node.Scalar() : in_quotes(node.Scalar());
+      return is_plain_scalar(node) && parse_number(node) ? echoed(node.Scalar())
+                                                         : in_quotes(node.Scalar());
     case YAML::NodeType::Sequence:
       return "a list of " + std::to_string(node.size());
     case YAML::NodeType::Map:
@@ -226,7 +271,7 @@ double MapReader::number_or(std::string_view key, double fallback, Range range) 
   const auto value = parse_number(entry->value);
   if (!value || !range.contains(*value)) {
     record(mark_of(*entry), child_path(key),
-           "expected " + expected("a number", range) + ", found " + found(entry->value));
+           unexpected("a number", range, value.has_value(), found(entry->value)));
     return fallback;
   }
   return *value;
@@ -250,7 +295,7 @@ std::int64_t MapReader::integer_or(std::string_view key, std::int64_t fallback, 
   const auto value = parse_integer(entry->value);
   if (!value || !range.contains(static_cast<double>(*value))) {
     record(mark_of(*entry), child_path(key),
-           "expected " + expected("an integer", range) + ", found " + found(entry->value));
+           unexpected("an integer", range, value.has_value(), found(entry->value)));
     return fallback;
   }
   return *value;
@@ -422,7 +467,7 @@ std::vector<double> MapReader::numbers(std::string_view key, Range each) {
     const auto value = parse_number(item);
     if (!value || !each.contains(*value)) {
       record(item.Mark(), child_path(key) + "[" + std::to_string(i) + "]",
-             "expected " + expected("a number", each) + ", found " + found(item));
+             unexpected("a number", each, value.has_value(), found(item)));
       ok = false;
       continue;
     }
@@ -613,9 +658,17 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 std::optional<std::string> closest_name(std::string_view word,
                                         const std::vector<std::string>& candidates,
                                         std::optional<std::size_t> max_distance) {
+  // Names are short; a longer word is no typo of one, and the distance costs |word| x |name|.
+  constexpr std::size_t kMaxNameChars = 100;
+  if (word.size() > kMaxNameChars) return std::nullopt;
   std::optional<std::string> best;
   std::size_t best_distance = max_distance.value_or(std::max<std::size_t>(2, word.size() / 4)) + 1;
   for (const auto& candidate : candidates) {
+    // The sizes' difference is a lower bound of the distance.
+    const std::size_t size_difference = candidate.size() > word.size()
+                                            ? candidate.size() - word.size()
+                                            : word.size() - candidate.size();
+    if (candidate.size() > kMaxNameChars || size_difference >= best_distance) continue;
     const std::size_t distance = edit_distance(word, candidate);
     if (distance < best_distance) {
       best_distance = distance;

@@ -16,8 +16,6 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr std::string_view kBase = "base";
 /// Stereo baseline agreement with the eyes' joint origins, in metres.
 constexpr double kBaselineTolerance_m = 1e-6;
-/// Highest loop or physics rate accepted; beyond it a "rate" is a typo, not a plan.
-constexpr double kMaxRate_hz = 100'000.0;
 // The joint loop's watchdogs: 20 control periods for targets and 20 joint periods for feedback
 // at the default rates; an hour bounds them (a loop that waits longer is not watching).
 constexpr double kDefaultCommandTimeout_s = 0.1;
@@ -135,7 +133,11 @@ JointConfig read_joint(const std::string& name, MapReader& r,
         servo->choice_or("command", {"position", "velocity"}, "position") == "velocity"
             ? ServoCommandMode::kVelocity
             : ServoCommandMode::kPosition;
-    joint.servo.dead_time_s = servo->number_or("dead_time_s", 0.0, Range::non_negative());
+    joint.servo.dead_time_s = servo->number_or(
+        "dead_time_s", 0.0,
+        Range::closed(0.0, kMaxDeadTime_s)
+            .because("a drive's dead time is milliseconds; the sim delays commands through "
+                     "dead_time_s x physics_rate_hz entries per joint"));
     joint.servo.motion_noise_std_rad =
         servo->angle_rad_or("motion_noise_std", 0.0, Range::non_negative());
     joint.servo.encoder_counts_per_rev =
@@ -179,8 +181,13 @@ CameraConfig read_camera(const std::string& name, MapReader& r) {
   camera.mount.xyz_m = r.vector3_or("origin_xyz_m", {0.0, 0.0, 0.0});
   camera.mount.rpy_rad = r.angles3_rad_or("origin_rpy", {0.0, 0.0, 0.0});
   const CleanRead size_read(r);
-  camera.width_px = static_cast<int>(r.integer("width_px", Range::closed(1, 65535)));
-  camera.height_px = static_cast<int>(r.integer("height_px", Range::closed(1, 65535)));
+  const Range side_range =
+      Range::closed(1, kMaxCameraSide_px)
+          .because(
+              "the sim renders into an offscreen buffer of the largest camera's size and "
+              "keeps several copies of each frame");
+  camera.width_px = static_cast<int>(r.integer("width_px", side_range));
+  camera.height_px = static_cast<int>(r.integer("height_px", side_range));
   const bool size_clean = size_read.clean();
 
   // Either focal_px (square pixels) or focal_x_px and focal_y_px. Every branch reads all three
@@ -266,12 +273,13 @@ LoopConfig read_loop(const std::string& name, MapReader& r) {
                                      [&](const LoopConfig& loop) { return loop.name == name; });
   LoopConfig loop;
   loop.name = name;
-  const Range rate_range{0.0, kMaxRate_hz, true, false};
+  const Range rate_range = Range::closed(kMinRate_hz, kMaxRate_hz)
+                               .because("a run's cycles are its duration times its rates");
   loop.rate_hz = standard != defaults.end() ? r.number_or("rate_hz", standard->rate_hz, rate_range)
                                             : r.number("rate_hz", rate_range);
   loop.priority = static_cast<int>(r.integer_or("priority", 0, Range::closed(0, 99)));
-  loop.cpu = static_cast<int>(
-      r.integer_or("cpu", -1, Range{-1.0, std::numeric_limits<double>::infinity()}));
+  loop.cpu = static_cast<int>(r.integer_or(
+      "cpu", -1, Range::closed(-1, kMaxCpu).because("-1: any; the kernel's CPU sets end there")));
   loop.overrun = r.choice_or("overrun", {"skip", "catch_up"}, "skip") == "catch_up"
                      ? OverrunPolicy::kCatchUp
                      : OverrunPolicy::kSkip;
@@ -532,6 +540,12 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   if (root.has("joints") && rig.joints.empty()) {
     root.error("joints", "expected at least one joint, found none");
   }
+  const bool too_many_joints = rig.joints.size() > kMaxJoints;
+  if (too_many_joints) {
+    root.error("joints", "expected at most " + std::to_string(kMaxJoints) +
+                             " joints (the joint loop's frames hold that many), found " +
+                             std::to_string(rig.joints.size()));
+  }
 
   std::vector<GroupEntry> groups;
   if (!root.has("groups"))
@@ -545,9 +559,20 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   }
 
   std::vector<MapReader> camera_readers;
+  std::int64_t camera_pixels = 0;
   for (auto& [name, reader] : root.named_maps("cameras")) {
+    const CleanRead camera_read(reader);
     rig.cameras.push_back(read_camera(name, reader));
     camera_readers.push_back(reader);
+    const CameraConfig& camera = rig.cameras.back();
+    camera_pixels += std::int64_t{camera.width_px} * camera.height_px;
+    if (camera_read.clean() && camera_pixels > kMaxCameraPixels) {
+      reader.error("", "expected the cameras to hold at most " + std::to_string(kMaxCameraPixels) +
+                           " pixels together (two of " + std::to_string(kMaxCameraSide_px) + " x " +
+                           std::to_string(kMaxCameraSide_px) +
+                           ": the sim renders and keeps every camera's frames), found " +
+                           std::to_string(camera_pixels) + " with this camera");
+    }
   }
 
   std::optional<MapReader> stereo_reader = root.optional_map("stereo");
@@ -580,8 +605,11 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   }
 
   if (auto sim = root.optional_map("sim")) {
-    rig.sim.physics_rate_hz = sim->number_or("physics_rate_hz", rig.sim.physics_rate_hz,
-                                             Range{0.0, kMaxRate_hz, true, false});
+    rig.sim.physics_rate_hz = sim->number_or(
+        "physics_rate_hz", rig.sim.physics_rate_hz,
+        Range::closed(kMinPhysicsRate_hz, kMaxRate_hz)
+            .because("the encoders' 10 ms velocity window needs a step of at most 10 ms; the "
+                     "dead-time lines grow with the rate"));
     sim->finish();
   }
   if (auto runtime = root.optional_map("runtime")) {
@@ -590,7 +618,9 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   }
   root.finish();
 
-  // Consistency across sections, on what was read.
+  // Consistency across sections, on what was read. Some checks walk the joints once per joint:
+  // with too many joints (already reported) they are skipped.
+  if (too_many_joints) root.issues()->throw_if_any();
   const std::vector<std::string> joint_names = names_of(rig.joints);
   check_group_membership(rig, joints, groups, joint_names);
   check_kinematic_tree(rig, joints, joint_names);

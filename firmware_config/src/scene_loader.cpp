@@ -188,7 +188,14 @@ SceneConfig read_scene(MapReader root, const std::string& file) {
   }
   std::set<std::string> names;
   if (root.has("objects")) {
-    for (auto& object_map : root.map_list("objects")) {
+    std::vector<MapReader> object_maps = root.map_list("objects");
+    if (object_maps.size() > kMaxSceneObjects) {
+      root.error("objects", "expected at most " + std::to_string(kMaxSceneObjects) +
+                                " objects (each is a body the sim collides every physics step, "
+                                "sized into MuJoCo's arena at load), found " +
+                                std::to_string(object_maps.size()));
+    }
+    for (auto& object_map : object_maps) {
       SceneObjectConfig object = read_object(object_map);
       if (!object.name.empty() && !names.insert(object.name).second) {
         object_map.error("name", "duplicate object name '" + object.name + "'");

@@ -13,8 +13,12 @@ namespace cambio::perception {
 
 namespace {
 
-/// Beyond this a retina level is no longer "small": the SSM's premise (paper Section 3).
-constexpr double kMaxLevelSide_px = 1024;
+/// Beyond this a retina level is no longer "small": the SSM's premise (paper Section 3; its
+/// levels are 16 x 16). It also bounds the feature maps: 8 levels x 64 maps x 128 x 128 floats
+/// are 32 MiB per eye and frame.
+constexpr double kMaxLevelSide_px = 128;
+/// The widest search, level-0 px: the widest camera (config::kMaxCameraSide_px).
+constexpr double kMaxSearchRange_px = 4096;
 
 std::string in_quotes(const std::string& text) {
   return '"' + text + '"';
@@ -122,8 +126,8 @@ SsmConfig read_ssm_config(config::MapReader& root) {
         check_map_name(*reader, "features", d.features[i], map_names, i, true);
       }
     }
-    d.search_range_px =
-        reader->number_or("search_range_px", d.search_range_px, config::Range::non_negative());
+    d.search_range_px = reader->number_or("search_range_px", d.search_range_px,
+                                          config::Range::closed(0, kMaxSearchRange_px));
     d.window_half_px = static_cast<int>(reader->integer_or(
         "window_half_px", d.window_half_px, config::Range::closed(0, kMaxLevelSide_px / 2)));
     if (2 * d.window_half_px + 1 > config.retina.width_px) {

@@ -96,6 +96,7 @@ class Builder {
     std::ostringstream xml;
     xml << "<mujoco model=\"" << xml_escape(rig_.name + "_in_" + scene_.name) << "\">\n";
     xml << "  <compiler angle=\"radian\" inertiafromgeom=\"true\"/>\n";
+    write_size(xml);
     // Euler, Newton solver with a modest iteration cap (the contacts are few: hands, objects,
     // table). Sparse Jacobians: the robot is three short chains and a few free bodies, so the
     // mass matrix is block-sparse (measured 20% faster than dense for the full robot).
@@ -131,6 +132,33 @@ class Builder {
       children_[joint.parent].push_back(&joint);
     }
     for (const auto& sensor : rig_.touch_sensors) hands_.insert(sensor.parent);
+  }
+
+  // MuJoCo 2.2 sizes mjData's stack as 5 (njmax + nv)^2 + O(n) numbers (MuJoCo's own
+  // estimate), with nothing for the broad phase's nbody^2 / 2: a scene of 2000 static objects
+  // overflowed it while compiling, and raising njmax for many contacts makes the estimate grow by
+  // gigabytes. Sized here from what the model holds instead, each term measured on 2.2.2 (its
+  // maxuse_stack; tests/sim/sim_scene_limits_test.cpp checks the largest scenes): the broad
+  // phase, the Newton solver's dense nv x nv matrices, and vectors over constraint rows, bodies
+  // and degrees of freedom. Every moving object may make 8 contacts of 4 rows (condim 3,
+  // pyramidal cone) beyond the robot's 100 contacts and 500 rows that the defaults gave.
+  void write_size(std::ostringstream& xml) {
+    long long free = 0;
+    long long moving = 0;
+    for (const auto& object : scene_.objects) {
+      free += object.body == config::BodyKind::kFree ? 1 : 0;
+      moving += object.body != config::BodyKind::kStatic ? 1 : 0;
+    }
+    const auto joints = static_cast<long long>(rig_.joints.size());
+    // The world, a link per joint and at most one mirrored finger per joint, the objects.
+    const long long bodies = 1 + 2 * joints + static_cast<long long>(scene_.objects.size());
+    const long long dofs = 2 * joints + 6 * free;
+    const long long contacts = 100 + 8 * moving;
+    const long long rows = 500 + 4 * 8 * moving;
+    const long long stack =
+        bodies * bodies / 2 + 5 * dofs * dofs + 100 * (rows + bodies + dofs) + 100'000;
+    xml << "  <size nstack=\"" << stack << "\" nconmax=\"" << contacts << "\" njmax=\"" << rows
+        << "\"/>\n";
   }
 
   void write_visual(std::ostringstream& xml) {
@@ -579,6 +607,73 @@ void check_cameras_representable(const RigConfig& rig) {
       issues.push_back({rig.source_file, 0, 0, path + ".parent",
                         "'" + camera.parent + "' is neither 'base' nor a joint"});
     }
+    for (const auto& [key, side] :
+         {std::pair{".width_px", camera.width_px}, std::pair{".height_px", camera.height_px}}) {
+      if (side > kMaxCameraSidePx) {
+        issues.push_back({rig.source_file, 0, 0, path + key,
+                          "the simulator renders cameras of at most " +
+                              std::to_string(kMaxCameraSidePx) + " px a side, found " +
+                              std::to_string(side)});
+      }
+    }
+    if (camera.name == kOverviewCameraName) {
+      issues.push_back({rig.source_file, 0, 0, path,
+                        std::string("'") + kOverviewCameraName +
+                            "' is the name of the simulator's third-person camera; choose "
+                            "another name"});
+    }
+  }
+  if (!issues.empty()) throw config::ConfigError(std::move(issues));
+}
+
+void check_scene_representable(const RigConfig& rig, const SceneConfig& scene) {
+  std::vector<config::ConfigIssue> issues;
+  const auto issue = [&](std::string key_path, std::string message) {
+    issues.push_back({scene.source_file, 0, 0, std::move(key_path), std::move(message)});
+  };
+  const auto moving = std::count_if(
+      scene.objects.begin(), scene.objects.end(),
+      [](const SceneObjectConfig& object) { return object.body != config::BodyKind::kStatic; });
+  if (scene.objects.size() > static_cast<std::size_t>(kMaxSceneObjects)) {
+    issue("objects", "the simulator holds at most " + std::to_string(kMaxSceneObjects) +
+                         " objects (its collision broad phase grows with their square), found " +
+                         std::to_string(scene.objects.size()));
+  }
+  if (moving > kMaxMovingObjects) {
+    issue("objects", "the simulator moves at most " + std::to_string(kMaxMovingObjects) +
+                         " free or scripted objects (MuJoCo's solver grows with the square of "
+                         "their degrees of freedom and contacts), found " +
+                         std::to_string(moving));
+  }
+  // The model names the robot's bodies and joints after the rig's joints, and a few geoms of its
+  // own; an object of the same name would be a second element of that name.
+  std::set<std::string> taken = {"world",    "floor",     "torso",    "pedestal",  "pedestal_foot",
+                                 "sky_back", "sky_front", "sky_left", "sky_right", "sky_top"};
+  for (const auto& joint : rig.joints) {
+    taken.insert(joint.name);
+    taken.insert(joint.name + kMimicSuffix);
+  }
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const std::string& name = scene.objects[i].name;
+    if (taken.count(name) != 0) {
+      issue("objects[" + std::to_string(i) + "].name",
+            "'" + name + "' is already the name of " +
+                (rig.find_joint(name) != nullptr || name.ends_with(kMimicSuffix)
+                     ? "a joint of rig " + rig.name
+                     : std::string("a part of the simulated world")) +
+                "; choose another name");
+    }
+  }
+  const auto& overview = scene.overview;
+  const Eigen::Vector3d position(overview.xyz_m[0], overview.xyz_m[1], overview.xyz_m[2]);
+  const Eigen::Vector3d target(overview.look_at_m[0], overview.look_at_m[1], overview.look_at_m[2]);
+  if (!((target - position).norm() > 1e-9)) {
+    const auto point = [](const std::array<double, 3>& p) {
+      return "[" + num(p[0]) + ", " + num(p[1]) + ", " + num(p[2]) + "]";
+    };
+    issue("overview_camera.look_at_m", "expected a point other than the camera's own position " +
+                                           point(overview.xyz_m) + ", found " +
+                                           point(overview.look_at_m));
   }
   if (!issues.empty()) throw config::ConfigError(std::move(issues));
 }
@@ -586,6 +681,7 @@ void check_cameras_representable(const RigConfig& rig) {
 GeneratedModel build_mjcf(const RigConfig& rig, const SceneConfig& scene,
                           const MjcfOptions& options) {
   check_cameras_representable(rig);
+  check_scene_representable(rig, scene);
   return Builder(rig, scene, options).build();
 }
 

@@ -1,12 +1,52 @@
 #include "cambio/sim/renderer.hpp"
 
+#include <algorithm>
 #include <thread>
+#include <vector>
 
+#include <GL/gl.h>
 #include <mujoco/mujoco.h>
 
+#include "cambio/config/config_error.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 
 namespace cambio::sim {
+
+namespace {
+
+// The offscreen framebuffer holds the largest camera (MjcfOptions); a GL implementation that
+// cannot allocate it reports an incomplete framebuffer, which MuJoCo turns into an error that
+// names neither the camera nor the limit. Checked first: each camera larger than the limit is
+// named. Requires a current context.
+void check_framebuffer_limits(const World& world, int offscreen_width_px, int offscreen_height_px) {
+  GLint renderbuffer = 0;
+  GLint texture = 0;
+  GLint viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  const int limit = std::min({renderbuffer, texture, viewport[0], viewport[1]});
+  if (limit <= 0 || (offscreen_width_px <= limit && offscreen_height_px <= limit)) return;
+  std::vector<config::ConfigIssue> issues;
+  const config::RigConfig& rig = world.rig();
+  for (const auto& camera : rig.cameras) {
+    if (camera.width_px > limit || camera.height_px > limit) {
+      issues.push_back({rig.source_file, 0, 0, "cameras." + camera.name,
+                        "this renderer draws at most " + std::to_string(limit) +
+                            " px a side, found " + std::to_string(camera.width_px) + "x" +
+                            std::to_string(camera.height_px)});
+    }
+  }
+  if (issues.empty()) {
+    throw MujocoError("offscreen rendering: a " + std::to_string(offscreen_width_px) + "x" +
+                      std::to_string(offscreen_height_px) +
+                      " px view is larger than this renderer's " + std::to_string(limit) +
+                      " px a side");
+  }
+  throw config::ConfigError(std::move(issues));
+}
+
+}  // namespace
 
 Renderer::Lease::Lease(Renderer& renderer, Mode mode) noexcept : renderer_(renderer) {
   held_ = !renderer_.busy_.test_and_set(std::memory_order_acquire);
@@ -37,6 +77,7 @@ Renderer::Renderer(const World& world)
   mjr_defaultContext(context_.get());
   try {
     egl_.make_current();
+    check_framebuffer_limits(world_, model->vis.global.offwidth, model->vis.global.offheight);
     mjv_makeScene(model, scene_.get(), model->ngeom + 64);
     // Textures (filled procedurally by World) are uploaded here.
     mjr_makeContext(model, context_.get(), mjFONTSCALE_100);

@@ -1,11 +1,14 @@
 #include "cambio/sim/world.hpp"
 
 #include <array>
+#include <optional>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include <mujoco/mujoco.h>
 
+#include "cambio/config/config_error.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "cambio/sim/procedural_texture.hpp"
 
@@ -15,8 +18,45 @@ namespace {
 
 constexpr const char* kModelFileName = "cambio_generated.xml";
 
+// MuJoCo names the element it refused ("Object name = ball, id = 18, line = 137"). When the
+// element was made from a scene object, the overview camera or a rig camera or joint, the input
+// asked for something MuJoCo cannot build (a free object too light to have an inertia, say):
+// that key is named. Otherwise the translation is at fault, and nullopt is returned.
+std::optional<config::ConfigIssue> input_at_fault(const std::string& error,
+                                                  const config::RigConfig& rig,
+                                                  const config::SceneConfig& scene) {
+  static constexpr std::string_view kName = "Object name = ";
+  const std::size_t at = error.find(kName);
+  if (at == std::string::npos) return std::nullopt;
+  const std::size_t start = at + kName.size();
+  const std::string name = error.substr(start, error.find_first_of(",\n", start) - start);
+  std::string what = error.substr(0, error.find('\n'));
+  if (what.starts_with("Error: ")) what.erase(0, 7);
+  what = "MuJoCo cannot build it: " + what;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const std::string& object = scene.objects[i].name;
+    if (name == object || name == "texture_" + object || name == "material_" + object) {
+      return config::ConfigIssue{scene.source_file, 0, 0, "objects[" + std::to_string(i) + "]",
+                                 what};
+    }
+  }
+  if (name == kOverviewCameraName) {
+    return config::ConfigIssue{scene.source_file, 0, 0, "overview_camera", what};
+  }
+  if (rig.find_camera(name) != nullptr) {
+    return config::ConfigIssue{rig.source_file, 0, 0, "cameras." + name, what};
+  }
+  for (const auto& joint : rig.joints) {
+    if (name == joint.name || name == joint.name + kMimicSuffix) {
+      return config::ConfigIssue{rig.source_file, 0, 0, "joints." + joint.name, what};
+    }
+  }
+  return std::nullopt;
+}
+
 // Compiles MJCF text through a virtual file system (nothing touches the disk).
-mjModel* compile(const std::string& xml) {
+mjModel* compile(const std::string& xml, const config::RigConfig& rig,
+                 const config::SceneConfig& scene) {
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());
   if (mj_makeEmptyFileVFS(vfs.get(), kModelFileName, static_cast<int>(xml.size())) != 0) {
@@ -34,6 +74,9 @@ mjModel* compile(const std::string& xml) {
   }
   mj_deleteVFS(vfs.get());
   if (model == nullptr) {
+    if (auto issue = input_at_fault(error.data(), rig, scene)) {
+      throw config::ConfigError({std::move(*issue)});
+    }
     throw MujocoError(std::string("the generated MJCF does not compile: ") + error.data() +
                       " (a bug in the rig/scene to MJCF translation; run `cambio render --mjcf "
                       "FILE` to inspect it)");
@@ -49,7 +92,7 @@ World::World(const config::RigConfig& rig, const config::SceneConfig& scene,
   install_mujoco_handlers();
   GeneratedModel generated = build_mjcf(rig_, scene_, options);
   mjcf_ = std::move(generated.xml);
-  model_ = compile(mjcf_);
+  model_ = compile(mjcf_, rig_, scene_);
   try {
     for (const auto& spec : generated.textures) {
       const int id = mj_name2id(model_, mjOBJ_TEXTURE, spec.texture_name.c_str());

@@ -18,12 +18,8 @@ enum class Capture : std::uint8_t {
   kStdout,  ///< For output that is parsed (JSON); stderr goes to the test's own.
 };
 
-/// Runs the built `cambio` program with `arguments` (shell syntax) from the source tree.
-inline CommandResult run_cambio(const std::string& arguments,
-                                Capture capture = Capture::kStdoutAndStderr) {
-  const std::string command = std::string("cd '") + CAMBIO_SOURCE_DIR + "' && '" +
-                              CAMBIO_BINARY_DIR + "/bin/cambio' " + arguments +
-                              (capture == Capture::kStdoutAndStderr ? " 2>&1" : "");
+/// Runs a shell command line and captures its standard output.
+inline CommandResult run_shell(const std::string& command) {
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
@@ -32,6 +28,14 @@ inline CommandResult run_cambio(const std::string& arguments,
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// Runs the built `cambio` program with `arguments` (shell syntax) from the source tree.
+inline CommandResult run_cambio(const std::string& arguments,
+                                Capture capture = Capture::kStdoutAndStderr) {
+  return run_shell(std::string("cd '") + CAMBIO_SOURCE_DIR + "' && '" + CAMBIO_BINARY_DIR +
+                   "/bin/cambio' " + arguments +
+                   (capture == Capture::kStdoutAndStderr ? " 2>&1" : ""));
 }
 
 }  // namespace cambio::testing

@@ -167,5 +167,65 @@ TEST(ConfigDocument, ReportsAMissingFile) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// What messages echo of the file is short and on one line.
+
+TEST(Echo, AHugeValueIsCutToEightyCharacters) {
+  // A 500 kB value was repeated whole in the message.
+  auto [document, root] = read("rate_hz: " + std::string(500'000, '7') + "x\n");
+  root.number("rate_hz", Range::positive());
+  const auto& issues = document.issues()->issues();
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].message,
+            "expected a number > 0, found \"" + std::string(80, '7') + "... (500001 bytes)\"");
+}
+
+TEST(Echo, AHugeNumberIsCutToo) {
+  auto [document, root] = read("rate_hz: -" + std::string(100, '9') + "\n");
+  root.number("rate_hz", Range::positive());
+  const auto& issues = document.issues()->issues();
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_EQ(issues[0].message,
+            "expected a number > 0, found -" + std::string(79, '9') + "... (101 bytes)");
+}
+
+TEST(Echo, CutsBetweenCharactersAndEscapesLineBreaks) {
+  // 81 two-byte characters: the cut falls after the 80th, not inside one.
+  std::string accents;
+  for (int i = 0; i < 81; ++i) accents += "\u00e9";
+  auto [document, root] = read("n: \"" + accents + "\"\nother: \"a\\nb\\tc\"\n");
+  root.number("n");
+  root.number("other");
+  const auto& issues = document.issues()->issues();
+  ASSERT_EQ(issues.size(), 2u);
+  EXPECT_EQ(issues[0].message,
+            "expected a number, found \"" + accents.substr(0, 160) + "... (162 bytes)\"");
+  // A line break in a value would split one problem over two lines.
+  EXPECT_EQ(issues[1].message, "expected a number, found \"a\\nb\\tc\"");
+}
+
+TEST(Echo, AHugeKeyIsCutInTheKeyPath) {
+  const std::string key(10'000, 'k');
+  auto [document, root] = read("? " + key + "\n: 1\n");  // Explicit: a plain key ends at 1024.
+  root.finish();
+  const auto& issues = document.issues()->issues();
+  ASSERT_EQ(issues.size(), 1u);
+  const std::string text = issues[0].to_string();
+  EXPECT_LT(text.size(), 400u) << text;
+  EXPECT_NE(
+      text.find("doc.yaml:1:3: " + std::string(160, 'k') + "... (10000 bytes): unknown key \"" +
+                std::string(80, 'k') + "... (10000 bytes)\""),
+      std::string::npos)
+      << text;
+}
+
+TEST(ClosestName, NothingIsSuggestedForOrAsAVeryLongWord) {
+  // The distance costs |word| x |name|: two 30 kB names took seconds per suggestion.
+  const std::string long_name(101, 'a');
+  EXPECT_EQ(closest_name(long_name, {long_name}), std::nullopt);
+  EXPECT_EQ(closest_name(std::string(100, 'a'), {std::string(100, 'a')}), std::string(100, 'a'));
+  EXPECT_EQ(closest_name("a", {long_name}), std::nullopt);
+}
+
 }  // namespace
 }  // namespace cambio::config

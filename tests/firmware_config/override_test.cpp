@@ -138,5 +138,63 @@ TEST(Override, ConsistencyChecksSeeTheOverriddenValue) {
   EXPECT_EQ(issues[0].key_path, "joints.pan.min_position_deg");
 }
 
+// ---------------------------------------------------------------------------------------------
+// Overrides that used to mislead
+
+TEST(Override, ATypoInAnEntrysNameIsOneIssueWithASuggestion) {
+  // It used to make up joint "tlit" and report each key it lacks, with no "did you mean".
+  const auto issues = issues_of(small_rig(), sets({"joints.tlit.max_velocity_rad_s=3"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: joints.tlit: --set made up \"tlit\", which the file does not have, and it "
+            "lacks group, axis, min_position_deg, max_position_deg, max_acceleration_rad_s2; "
+            "did you mean \"tilt\"?");
+  // With no close name, the names the file has.
+  const auto far = issues_of(small_rig(), sets({"joints.elbow.max_velocity_rad_s=3"}));
+  ASSERT_EQ(far.size(), 1u) << describe(far);
+  EXPECT_NE(far[0].message.find("; the file has pan, tilt"), std::string::npos)
+      << far[0].to_string();
+}
+
+TEST(Override, AMapItMakesUpThatIsCompleteIsKept) {
+  // The small rig has no loops section: --set may add one.
+  const RigConfig rig =
+      load_rig_from_string(small_rig(), "test.yaml", sets({"loops.joint.rate_hz=250"}));
+  EXPECT_EQ(rig.find_loop("joint")->rate_hz, 250.0);
+  // And its own problems are reported as such, against --set.
+  const auto issues = issues_of(small_rig(), sets({"loops.joint.rate_hz=0"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].file, "--set");
+  EXPECT_NE(issues[0].message.find("expected a number in [0.1, 100000]"), std::string::npos);
+}
+
+TEST(Override, AValueOfSeveralDocumentsIsRefused) {
+  // YAML::Load read the first document only: rate_hz became 500, silently.
+  const auto issues = issues_of(small_rig(), sets({"loops.joint.rate_hz=500\n---\n100"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: loops.joint.rate_hz: expected a YAML value, found \"500\\n---\\n100\" "
+            "(expected one YAML document, found a second (a line '---' starts it))");
+}
+
+TEST(Override, AHugeListIndexIsRefusedAsOutOfRange) {
+  // std::stoul threw std::out_of_range, past every ConfigError handler.
+  const auto issues =
+      issues_of(small_rig(), sets({"groups.head.joints.99999999999999999999999=pan"}));
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: groups.head.joints.99999999999999999999999: cannot set item "
+            "99999999999999999999999 of groups.head.joints: the list has 2 items");
+}
+
+TEST(Override, AValueIsBoundedInSize) {
+  const std::string value(kMaxOverrideValueBytes + 1, '1');
+  const auto issues = issues_of(small_rig(), {ConfigOverride{"rig.name", value}});
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: rig.name: expected a value of at most 65536 bytes (a number, a list, a map of "
+            "a few keys), found 65537 bytes");
+}
+
 }  // namespace
 }  // namespace cambio::config

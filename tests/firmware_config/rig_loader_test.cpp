@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "cambio/control/joint_frames.hpp"
+#include "cambio/hal/joint_state_tap.hpp"
 #include "rig_test_support.hpp"
 
 namespace cambio::config {
@@ -134,7 +136,7 @@ TEST(BadRig, WrongTypeNamesExpectedAndFound) {
 TEST(BadRig, WrongTypeListForNumber) {
   expect_single_issue(issues_of(small_rig_with(29, "    width_px: [640]")), 29, 15,
                       "cameras.eye.width_px",
-                      "expected an integer in [1, 65535], found a list of 1");
+                      "expected an integer in [1, 4096], found a list of 1");
 }
 
 TEST(BadRig, MissingKeyIsReportedAtItsMap) {
@@ -184,7 +186,8 @@ TEST(BadRig, InitialPositionOutsideLimits) {
 TEST(BadRig, RateOfZero) {
   const std::string yaml = small_rig() + "loops:\n  joint: {rate_hz: 0}\n";  // Lines 35-36.
   expect_single_issue(issues_of(yaml), 36, 20, "loops.joint.rate_hz",
-                      "expected a number in (0, 100000], found 0");
+                      "expected a number in [0.1, 100000] (a run's cycles are its duration times "
+                      "its rates), found 0");
 }
 
 TEST(BadRig, CustomLoopNeedsARate) {
@@ -421,6 +424,90 @@ TEST(BadRig, MissingFile) {
     ASSERT_EQ(error.issues().size(), 1u);
     EXPECT_EQ(error.issues()[0].file, "/nonexistent/rig.yaml");
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Values that size what the program allocates are bounded, each with its reason.
+
+TEST(RigLimits, ServoDeadTime) {
+  // 1e6 s passed and the sim allocated a delay line of dead_time_s x physics_rate_hz commands.
+  expect_single_issue(issues_of(small_rig_with(
+                          12, "    max_acceleration_rad_s2: 20.0\n    servo: {dead_time_s: 1e6}")),
+                      13, 26, "joints.pan.servo.dead_time_s",
+                      "expected a number in [0, 1] (a drive's dead time is milliseconds; the sim "
+                      "delays commands through dead_time_s x physics_rate_hz entries per joint), "
+                      "found 1e6");
+}
+
+TEST(RigLimits, CameraSize) {
+  expect_single_issue(issues_of(small_rig_with(29, "    width_px: 65535")), 29, 15,
+                      "cameras.eye.width_px",
+                      "expected an integer in [1, 4096] (the sim renders into an offscreen buffer "
+                      "of the largest camera's size and keeps several copies of each frame), "
+                      "found 65535");
+}
+
+TEST(RigLimits, AllCamerasPixels) {
+  // The small rig's camera at the largest size, then `extra` more of it: two pass, three do not.
+  const auto with_cameras = [](int extra) {
+    auto lines = test::kSmallRigLines;
+    lines[28] = "    width_px: 4096";   // Line 29.
+    lines[29] = "    height_px: 4096";  // Line 30.
+    lines[31].clear();                  // Line 32: the principal point, centred by default.
+    for (int i = 0; i < extra; ++i) {
+      lines[31] += "  eye" + std::to_string(i) +
+                   ": {parent: tilt, width_px: 4096, height_px: 4096, focal_px: 500}\n";
+    }
+    return test::join_lines(lines);
+  };
+  EXPECT_NO_THROW(load_rig_from_string(with_cameras(1), "test.yaml"));
+  expect_single_issue(issues_of(with_cameras(2)), 33, 9, "cameras.eye1",
+                      "expected the cameras to hold at most 33554432 pixels together (two of "
+                      "4096 x 4096: the sim renders and keeps every camera's frames), found "
+                      "50331648 with this camera");
+}
+
+TEST(RigLimits, JointCountIsWhatTheJointLoopHolds) {
+  static_assert(kMaxJoints == static_cast<std::size_t>(control::kMaxJoints));
+  static_assert(kMaxJoints == hal::JointStateTap::kMaxJoints);
+}
+
+TEST(RigLimits, JointCount) {
+  // The joint loop's frames hold kMaxJoints; more overflowed them.
+  std::string yaml = "rig: {name: many}\njoints:\n";
+  std::string names;
+  for (std::size_t i = 0; i <= kMaxJoints; ++i) {
+    const std::string name = "j" + std::to_string(i);
+    yaml += "  " + name +
+            ": {group: g, axis: [0, 0, 1], min_position_deg: -1, max_position_deg: 1, "
+            "max_velocity_rad_s: 1, max_acceleration_rad_s2: 1}\n";
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  yaml += "groups:\n  g: {backend: sim, joints: [" + names + "]}\n";
+  const auto issues = issues_of(yaml);
+  ASSERT_EQ(issues.size(), 1u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "test.yaml:3:3: joints: expected at most 32 joints (the joint loop's frames hold that "
+            "many), found 33");
+}
+
+TEST(RigLimits, Rates) {
+  const std::string loops = small_rig() + "loops:\n  camera: {rate_hz: 1e-300}\n";  // Line 36.
+  expect_single_issue(issues_of(loops), 36, 21, "loops.camera.rate_hz",
+                      "expected a number in [0.1, 100000]");
+  const std::string physics = small_rig() + "sim: {physics_rate_hz: 10}\n";  // Line 35.
+  expect_single_issue(issues_of(physics), 35, 24, "sim.physics_rate_hz",
+                      "expected a number in [100, 100000] (the encoders' 10 ms velocity window "
+                      "needs a step of at most 10 ms; the dead-time lines grow with the rate), "
+                      "found 10");
+}
+
+TEST(RigLimits, CpuIsNotNarrowedSilently) {
+  // 2^32 was read as a 64-bit integer and became CPU 0 as an int.
+  const std::string yaml = small_rig() + "loops:\n  joint: {cpu: 4294967296}\n";
+  expect_single_issue(issues_of(yaml), 36, 16, "loops.joint.cpu",
+                      "expected an integer in [-1, 1023] (-1: any; the kernel's CPU sets end "
+                      "there), found 4294967296");
 }
 
 }  // namespace

@@ -65,6 +65,9 @@ TEST(SeqlockChannel, ConcurrentReaderNeverSeesATornValue) {
       ++reads;
     }
   });
+  // On a loaded machine the writes can all happen before the reader first runs: wait for it, or
+  // the test would check nothing.
+  while (reads.load() == 0) std::this_thread::yield();
   for (std::uint64_t n = 1; n <= kWrites; ++n) channel.write(make_sample(n));
   done.store(true, std::memory_order_release);
   reader.join();

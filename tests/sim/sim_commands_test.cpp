@@ -67,11 +67,12 @@ TEST(RenderCommandTest, BadSceneIsRefusedWithFileLineColumn) {
   ASSERT_NE(file, nullptr);
   std::fputs("objects:\n  - {name: a, shape: pyramid, xyz_m: [1, 0, 1]}\n", file);
   std::fclose(file);
+  const auto out = dir / "out";
   const auto result =
-      run_cambio("render --scene '" + scene.string() + "' --out '" + dir.string() + "'");
+      run_cambio("render --scene '" + scene.string() + "' --out '" + out.string() + "'");
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_NE(result.output.find("bad.yaml:2:"), std::string::npos) << result.output;
-  EXPECT_FALSE(std::filesystem::exists(dir / "left.png"));
+  EXPECT_FALSE(std::filesystem::exists(out / "left.png"));
 }
 
 // The vergence scene under a name with a quote and a backslash: names are user text, and the

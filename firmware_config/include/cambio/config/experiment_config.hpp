@@ -52,10 +52,19 @@ struct ExperimentConfig {
   RigConfig rig;
 };
 
+/// The longest run an experiment may ask for: a day. A run's cycles (duration x each loop's
+/// rate), its progress and whatever it records per cycle grow with it.
+inline constexpr double kMaxExperimentDuration_s = 86'400.0;
+
 /// Loads an experiment and the rig it names. `overrides` apply to the experiment file; keys
 /// under `rig.` (e.g. `rig.loops.control.rate_hz=100`) apply to the rig file instead. Throws
-/// ConfigError with every problem of both files.
+/// ConfigError with every problem of both files; a rig, scene or perception file that cannot
+/// be read (see config_file_problem) is reported at the experiment's key that names it.
 ExperimentConfig load_experiment(const std::string& path,
                                  const std::vector<ConfigOverride>& overrides = {});
+/// The same from YAML text: `name` stands for the file in messages, and the rig, scene and
+/// perception paths resolve against its folder.
+ExperimentConfig load_experiment_from_string(const std::string& yaml, const std::string& name,
+                                             const std::vector<ConfigOverride>& overrides = {});
 
 }  // namespace cambio::config

@@ -27,14 +27,24 @@ class IssueList {
   void add(ConfigIssue issue);
   /// Declares that `key_path` (and everything under it) came from a `--set` override.
   void mark_overridden(std::string key_path);
+  /// Declares that a `--set` created the map at `key_path`, which the file does not have (the
+  /// typo joints.neck_pam of `--set joints.neck_pam.max_velocity_rad_s=3`); `file_keys` are the
+  /// keys the file has beside it. The keys then missing under it are reported as one issue at
+  /// `key_path`, with a "did you mean" among `file_keys`, instead of one "missing key" each.
+  void mark_created(std::string key_path, std::vector<std::string> file_keys);
   bool empty() const { return issues_.empty(); }
   const std::vector<ConfigIssue>& issues() const { return issues_; }
   /// Throws ConfigError with every issue, ordered by file, line and column, if there is any.
   void throw_if_any() const;
 
  private:
+  struct CreatedMap {
+    std::string key_path;
+    std::vector<std::string> file_keys;
+  };
   std::vector<ConfigIssue> issues_;
   std::vector<std::string> overridden_paths_;
+  std::vector<CreatedMap> created_maps_;
 };
 
 /// Inclusive or exclusive bounds on a number.
@@ -43,12 +53,22 @@ struct Range {
   double max = std::numeric_limits<double>::infinity();
   bool min_exclusive = false;
   bool max_exclusive = false;
+  /// Why the bounds are what they are, for a bound that is not self-evident (a size the program
+  /// allocates, a hardware limit); the message of a value outside them ends with it. Must
+  /// outlive the Range (a string literal or a constant).
+  std::string_view reason{};
 
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
   static Range non_negative() {
     return {0.0, std::numeric_limits<double>::infinity(), false, false};
   }
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  /// This range with `why` as its reason.
+  Range because(std::string_view why) const {
+    Range range = *this;
+    range.reason = why;
+    return range;
+  }
   bool contains(double value) const;
   std::string describe() const;  ///< e.g. "> 0", "in [1, 127]".
 };
@@ -153,6 +173,22 @@ class MapReader {
   bool valid_ = true;
 };
 
+/// The largest config file read, and YAML text parsed: 1 MiB. The shipped files hold at most
+/// 10 KiB and a scene of 1000 objects (the most one may hold) about 300 KiB; yaml-cpp takes up to
+/// ~300 bytes of memory per byte of YAML (measured: 1 MiB of "[0,0,...]" takes 290 MB), so this
+/// bounds what parsing a config can take.
+inline constexpr std::size_t kMaxConfigFileBytes = std::size_t{1} << 20;
+
+/// The largest `--set` value (a number, a list, a map of a few keys): 64 KiB.
+inline constexpr std::size_t kMaxOverrideValueBytes = std::size_t{64} << 10;
+
+/// Why `path` cannot be read as a config file, as the end of a message: "it does not exist",
+/// "permission denied", "it is a directory, expected a YAML file", "it is a character device
+/// (such as /dev/zero), expected a regular file", "it holds 5000000 bytes, ...". nullopt when it
+/// is a regular file of at most kMaxConfigFileBytes this process may read. Opens only regular
+/// files (opening a device can act on it). Never throws.
+std::optional<std::string> config_file_problem(const std::string& path);
+
 /// A `--set key.path=value` override from the command line.
 struct ConfigOverride {
   std::string key_path;
@@ -162,13 +198,15 @@ struct ConfigOverride {
 /// Parses "key.path=value"; throws ConfigError (file "--set") if malformed.
 ConfigOverride parse_override(std::string_view text);
 
-/// A YAML document loaded from a file (or a string, for tests), with overrides applied on top
-/// before anything reads it. Overridden values are reported with file "--set".
+/// A YAML document loaded from a file (or a string), with overrides applied on top before
+/// anything reads it. Overridden values are reported with file "--set".
 class ConfigDocument {
  public:
-  /// Throws ConfigError for an unreadable file or a YAML syntax error (with its line).
+  /// Throws ConfigError when the file cannot be read as a config (see config_file_problem), or
+  /// does not hold exactly one YAML document (a syntax error is reported with its line).
   static ConfigDocument load_file(const std::string& path,
                                   const std::vector<ConfigOverride>& overrides = {});
+  /// The same from `text` (at most kMaxConfigFileBytes); `name` stands for the file in messages.
   static ConfigDocument from_string(const std::string& text, const std::string& name,
                                     const std::vector<ConfigOverride>& overrides = {});
 
@@ -181,8 +219,9 @@ class ConfigDocument {
   ConfigDocument(YAML::Node root, std::string file);
   static ConfigDocument parse(const std::string& text, const std::string& name,
                               const std::vector<ConfigOverride>& overrides);
-  /// Sets the override's key in the tree, creating missing maps; records an issue (file
-  /// "--set") when the value does not parse or the path runs through a non-map.
+  /// Sets the override's key in the tree, creating missing maps (see IssueList::mark_created);
+  /// records an issue (file "--set") when the value is not one YAML value of at most
+  /// kMaxOverrideValueBytes, or the path runs through a non-map or past a list's end.
   void apply(const ConfigOverride& override_value);
   YAML::Node root_;
   std::string file_;
@@ -193,7 +232,8 @@ class ConfigDocument {
 std::size_t edit_distance(std::string_view a, std::string_view b);
 
 /// The "did you mean" for `word`: the first of the `candidates` nearest to it by edit_distance,
-/// if at most `max_distance` edits away; by default max(2, |word| / 4), a plausible typo.
+/// if at most `max_distance` edits away; by default max(2, |word| / 4), a plausible typo. Words
+/// and candidates of more than 100 characters are not names: nothing is suggested for or as one.
 std::optional<std::string> closest_name(std::string_view word,
                                         const std::vector<std::string>& candidates,
                                         std::optional<std::size_t> max_distance = std::nullopt);

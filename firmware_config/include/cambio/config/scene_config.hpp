@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -78,6 +79,11 @@ struct OverviewCameraConfig {
   double fovy_rad = 0.785;
 };
 
+/// The most objects a scene may hold (the shipped scenes hold 5 to 8). Each is a MuJoCo body
+/// and geom: the model's arena (stack), its contact buffers and the collision work of every
+/// physics step grow with them, and the sim bakes a texture for each textured one.
+inline constexpr std::size_t kMaxSceneObjects = 1000;
+
 /// A world around the robot, as loaded from scenes/*.yaml. The sim turns it and the rig into one
 /// MJCF model; nothing else describes the world.
 struct SceneConfig {
@@ -96,7 +102,7 @@ struct SceneConfig {
 /// Loads and validates a scene file (scenes/*.yaml), overrides applied first. Throws ConfigError
 /// with every problem (file:line:col): unknown shape or texture, a size that is not positive, a
 /// size key that does not fit the shape, duplicate names, motion on a non-scripted object,
-/// waypoints out of time order, unknown keys.
+/// waypoints out of time order, more than kMaxSceneObjects objects, unknown keys.
 SceneConfig load_scene(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
 /// The same from YAML text (tests); `name` stands for the file in messages.
 SceneConfig load_scene_from_string(const std::string& yaml, const std::string& name,

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cambio/config/rig_config.hpp"
+#include "cambio/config/rig_loader.hpp"
 #include "cambio/config/scene_config.hpp"
 
 namespace cambio::sim {
@@ -31,6 +32,23 @@ struct MjcfOptions {
   int offscreen_height_px = 0;
 };
 
+/// The largest camera image the sim renders, in pixels a side: the rig loader's limit
+/// (config::kMaxCameraSide_px), checked again here for rigs built in code. Each camera renders
+/// into one offscreen framebuffer (4 bytes of colour and 4 of depth a pixel) and is read back into
+/// two RGB buffers. GL implementations may allow less (GL_MAX_RENDERBUFFER_SIZE); the renderer
+/// checks that too. Larger cameras are refused with a ConfigError naming them.
+inline constexpr int kMaxCameraSidePx = config::kMaxCameraSide_px;
+
+/// Scene objects in all: the scene loader's limit (config::kMaxSceneObjects), checked again here
+/// for scenes built in code. MuJoCo's broad phase takes nbody^2 / 2 numbers of its stack (mjData's
+/// arena, sized from the model by build_mjcf); the arena sizing was measured up to 5000 objects.
+inline constexpr int kMaxSceneObjects = static_cast<int>(config::kMaxSceneObjects);
+/// Objects that move (free or scripted). Each free one adds 6 degrees of freedom, and MuJoCo
+/// 2.2's Newton solver keeps dense nv x nv matrices (5 nv^2 numbers of stack); each may touch
+/// others and the robot in 8 contacts of 4 constraint rows, whose nefc x nefc matrix mjData
+/// allocates at once. At 100: nv 617, 900 contacts, 3700 rows, 110 MB.
+inline constexpr int kMaxMovingObjects = 100;
+
 /// MJCF geom groups. The eyes render groups 0-2; group 3 (the head that carries the cameras)
 /// is drawn only by third-person views, so an eye never sees its own housing.
 inline constexpr int kSceneGeomGroup = 0;
@@ -48,15 +66,24 @@ inline constexpr const char* kMimicSuffix = "_mimic";
 /// them kinematically from the servo model. Every other joint is driven through physics.
 bool carries_camera(const config::RigConfig& rig, const std::string& joint_name);
 
-/// Checks what MuJoCo's pinhole can represent: square pixels (focal_x == focal_y) and a centred
-/// principal point (cx = (width - 1) / 2, cy = (height - 1) / 2). Throws config::ConfigError
-/// naming each offending camera key.
+/// Checks what MuJoCo's pinhole can represent: square pixels (focal_x == focal_y), a centred
+/// principal point (cx = (width - 1) / 2, cy = (height - 1) / 2), at most kMaxCameraSidePx a
+/// side, a name other than the overview's. Throws config::ConfigError naming each offending
+/// camera key.
 void check_cameras_representable(const config::RigConfig& rig);
 
+/// Checks what the generated model can hold: at most kMaxSceneObjects objects and
+/// kMaxMovingObjects moving ones, object names apart from the names the model gives the robot
+/// and its surroundings (joints, "floor", "torso", ...), an overview camera that looks at a point
+/// other than its own position. Throws config::ConfigError naming each offending key.
+void check_scene_representable(const config::RigConfig& rig, const config::SceneConfig& scene);
+
 /// Generates the MJCF: the robot's links, joints, cameras and actuators from the rig; the
-/// objects, textures and lights from the scene. The only description of the world. Throws
-/// config::ConfigError for cameras MuJoCo cannot render and std::runtime_error for a rig whose
-/// kinematic tree is broken (a parent that is not a joint).
+/// objects, textures and lights from the scene. The only description of the world. MuJoCo's
+/// arena (stack, contacts, constraint rows) is sized from the counts of bodies and degrees of
+/// freedom. Throws config::ConfigError for cameras and scenes the model cannot represent (see
+/// the checks above) and std::runtime_error for a rig whose kinematic tree is broken (a parent
+/// that is not a joint).
 GeneratedModel build_mjcf(const config::RigConfig& rig, const config::SceneConfig& scene,
                           const MjcfOptions& options = {});
 

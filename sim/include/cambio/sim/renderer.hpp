@@ -51,7 +51,9 @@ class Renderer {
   };
 
   /// Allocates everything (GL context, framebuffers, textures, scene). Throws
-  /// std::runtime_error or MujocoError.
+  /// config::ConfigError naming the rig's cameras larger than this GL implementation draws
+  /// (GL_MAX_RENDERBUFFER_SIZE, GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS), std::runtime_error or
+  /// MujocoError.
   explicit Renderer(const World& world);
   ~Renderer();
   Renderer(const Renderer&) = delete;

@@ -88,6 +88,10 @@ std::optional<ImageHeader> pnm_header(std::span<const std::uint8_t> bytes) {
       if (value < (std::int64_t{1} << 31)) value = value * 10 + (bytes[i] - '0');
     }
     if (i == start) return std::nullopt;
+    // Netpbm ends each header field with whitespace. OpenCV's reader skips a '#' comment glued
+    // to the digits and reads on ("5554#76666\n688" is one number to it, 5554 to a strict
+    // reader): a header whose fields are not whitespace-separated is refused, never guessed.
+    if (i >= bytes.size() || std::isspace(bytes[i]) == 0) return std::nullopt;
     return value;
   };
   if (bytes.size() < 3 || std::isspace(bytes[2]) == 0) return std::nullopt;

@@ -148,6 +148,12 @@ TEST(ImageFilesTest, BytesOpenCvWouldGiveToAnotherDecoderAreRefused) {
   auto jpeg = encoded(random_image(8, 8, CV_8U), ".jpg");
   jpeg.insert(jpeg.begin() + 2, 0x00);
   EXPECT_FALSE(read_image_header(jpeg).has_value());
+  // Found by fuzz_image_read in CI: a comment glued to a size. This reader took the width for
+  // 5554, OpenCV's for 5554688, which asked for 2.5 GB.
+  const std::string glued("P6\n\n5554#76666\n688\n6", 20);
+  const std::vector<std::uint8_t> pnm(glued.begin(), glued.end());
+  EXPECT_FALSE(read_image_header(pnm).has_value());
+  EXPECT_NE(refusal(pnm).find("in.img: not an image this program reads"), std::string::npos);
 }
 
 }  // namespace

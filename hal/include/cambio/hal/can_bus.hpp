@@ -1,7 +1,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "cambio/hal/status.hpp"
@@ -57,6 +59,22 @@ class CanBus {
   virtual Status receive(CanFrame& out) = 0;
   /// Error counters and bus state. Real-time safe.
   virtual CanBusStatus status() const = 0;
+
+  /// Queues frames in order, stopping at the first that is not accepted; returns how many were.
+  /// A SocketCAN bus sends them with one system call (sendmmsg). Real-time safe.
+  virtual std::size_t send_batch(std::span<const CanFrame> frames) {
+    std::size_t sent = 0;
+    while (sent < frames.size() && send(frames[sent]) == Status::kOk) ++sent;
+    return sent;
+  }
+
+  /// Blocks until a frame can be received or `timeout_ns` passes: kOk when one is ready,
+  /// kNoNewData on timeout. For processes that wait on the bus (the virtual rig's drives), never
+  /// for a loop.
+  virtual Status wait_for_frame(std::int64_t timeout_ns) {
+    (void)timeout_ns;
+    return Status::kNoNewData;
+  }
 };
 
 }  // namespace cambio::hal

@@ -13,11 +13,17 @@
 
 namespace cambio::hal {
 
-/// The CiA 402 drive behind a joint: what a CAN backend needs to address it and convert units.
+/// The CiA 402 drive behind a joint: what a CAN backend needs to address it, convert units and
+/// write its parameters (position limits and max velocity come from the joint's limits).
 struct JointDriveInfo {
   int node_id = 0;                          ///< CANopen node id, 1..127.
   double gear_ratio = 1.0;                  ///< Motor turns per joint turn.
   std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
+  /// CiA 402 following error window (0x6065): the drive faults (EMCY 0x8611) when its position
+  /// lags its demand by more than this. 0 = leave the drive's own setting.
+  double following_error_window_rad = 0.0;
+  /// Cyclic synchronous position (default) or cyclic synchronous velocity.
+  CommandMode mode = CommandMode::kPosition;
 };
 
 /// One revolute joint of the rig tree. Every joint moves a link named after it; its parent is

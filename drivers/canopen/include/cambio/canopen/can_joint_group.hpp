@@ -1,0 +1,127 @@
+#pragma once
+
+// A joint group of CiA 402 drives on one CAN bus (hal::JointGroup). One joint-loop cycle:
+//   read()   drain the bus: the TPDOs that answered the previous SYNC (per-joint stamps from the
+//            frames), heartbeats, boot-ups, EMCYs; malformed or unexpected frames are counted
+//            and ignored; a drive silent for info.can.stale_after_missed_syncs SYNCs is stale,
+//            one whose heartbeat missed 3 periods is lost (latched kJointCommLost)
+//   write()  clamp, then controlword + target per drive into the RPDOs
+//   sync()   every RPDO then SYNC, with one send_batch
+// After a fault, a loss or a reboot anywhere in the group, no motion command goes out for the
+// group: enabled drives are quick-stopped at their measured positions until a fault reset.
+// The group is the bus's SYNC producer: one CAN group per bus.
+// read/write/sync/request: no allocation, no lock, no blocking, one send system call per cycle.
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "cambio/canopen/cia402_drive.hpp"
+#include "cambio/canopen/emcy_consumer.hpp"
+#include "cambio/canopen/nmt_master.hpp"
+#include "cambio/canopen/pdo_layout.hpp"
+#include "cambio/hal/can_bus.hpp"
+#include "cambio/hal/clock.hpp"
+#include "cambio/hal/hardware_info.hpp"
+#include "cambio/hal/joint_group.hpp"
+
+namespace cambio::canopen {
+
+/// What went wrong on a group's bus, for reporting. Counts since construction.
+struct CanGroupCounters {
+  std::uint64_t syncs_sent = 0;
+  std::uint64_t tpdos_received = 0;
+  std::uint64_t missed_sync_answers = 0;  ///< Drive-cycles with no TPDO1 after a SYNC.
+  std::uint64_t late_tpdos = 0;           ///< TPDOs that arrived after the next SYNC went out.
+  std::uint64_t malformed_frames = 0;     ///< Wrong length or flags for their COB-ID.
+  std::uint64_t unexpected_frames = 0;    ///< COB-IDs this group has nothing to do with.
+  std::uint64_t tx_queue_full = 0;        ///< Frames a full transmit queue did not take.
+  std::uint64_t emergencies = 0;
+  std::uint64_t error_frames = 0;
+  std::uint64_t boot_ups = 0;
+};
+
+class CanJointGroup final : public hal::JointGroup {
+ public:
+  /// `drives[k]` is the drive of `info.joints[k]`; `rate_hz` the group's SYNC rate. `bus` and
+  /// `clock` outlive the group. Throws std::invalid_argument on bad node ids or units.
+  CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDriveInfo> drives, double rate_hz,
+                hal::CanBus& bus, const hal::Clock& clock);
+
+  const hal::JointGroupInfo& info() const override { return info_; }
+  hal::Status read(std::span<hal::JointState> out, std::int64_t& stamp_ns) override;
+  hal::Status write(std::span<const hal::JointCommand> commands) override;
+  hal::Status request(hal::DriveRequest request, int joint = kAllJoints) override;
+  hal::Status sync() override;
+
+  /// Thread-safe snapshot of the counters.
+  CanGroupCounters counters() const;
+
+  // Lifecycle, called by the backend outside the loop.
+  const PdoLayout& layout() const { return layout_; }
+  double rate_hz() const { return rate_hz_; }
+  hal::CanBus& bus() { return bus_; }
+  std::size_t size() const { return slots_.size(); }
+  const Cia402Drive& drive(std::size_t joint) const { return slots_[joint].drive; }
+  /// The drive's state read over SDO at configure time, so the first read() is real.
+  void seed_feedback(std::size_t joint, const DriveFeedback& feedback, std::int64_t stamp_ns);
+  /// The motor's rated torque (0x6076, N m) for effort feedback; 0 = effort not reported.
+  void set_rated_torque(std::size_t joint, double rated_torque_nm);
+  /// Starts watching heartbeats and SYNC answers (activate()).
+  void arm(std::int64_t now_ns);
+  /// Drives that sent a boot-up since arm(): their configuration is gone.
+  bool needs_reconfiguration(std::size_t joint) const { return slots_[joint].heartbeat.rebooted(); }
+  /// After the backend configured a rebooted drive again.
+  void reconfigured(std::size_t joint) { slots_[joint].heartbeat.clear_rebooted(); }
+  /// One RPDO1 per drive carrying `controlword` and the measured position, then SYNC, into
+  /// `out` (size >= size() + 1); returns the count. For deactivate(): quick stop, disable.
+  std::size_t shutdown_frames(std::uint16_t controlword, std::span<hal::CanFrame> out) const;
+
+ private:
+  struct Slot {
+    Cia402Drive drive;
+    HeartbeatConsumer heartbeat;
+    EmergencyRecord emergency;
+    hal::JointCommand command{};
+    double gear_ratio = 1.0;
+    double rated_torque_nm = 0.0;
+    std::int64_t stamp_ns = 0;
+    int missed_syncs = 0;
+    bool answered = false;  ///< A TPDO1 since the last SYNC.
+    std::uint32_t clamped_bits = 0;
+  };
+
+  void dispatch(const hal::CanFrame& frame, std::int64_t now_ns);
+  void on_tpdo(Slot& slot, int pdo, const hal::CanFrame& frame, std::int64_t stamp_ns);
+  bool faulted_or_lost(const Slot& slot) const;
+  void build_rpdos(bool use_commands);
+  static void bump(std::atomic<std::uint64_t>& counter, std::uint64_t by = 1) {
+    counter.store(counter.load(std::memory_order_relaxed) + by, std::memory_order_relaxed);
+  }
+
+  hal::JointGroupInfo info_;
+  double rate_hz_;
+  hal::CanBus& bus_;
+  const hal::Clock& clock_;
+  PdoLayout layout_;
+  std::vector<Slot> slots_;
+  std::array<std::int16_t, kMaxNodeId + 1> slot_of_node_{};  ///< -1: not in the group.
+  std::vector<hal::CanFrame> tx_;                            ///< RPDOs of every drive, then SYNC.
+  std::size_t tx_count_ = 0;
+  bool written_ = false;
+  bool hold_latched_ = false;
+  bool reset_pending_ = false;
+  bool sync_to_check_ = false;  ///< A SYNC went out whose answers read() has not checked.
+  std::int64_t last_sync_ns_ = 0;
+  std::int64_t stale_after_syncs_ = 3;
+
+  struct AtomicCounters {
+    std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},
+        late_tpdos{0}, malformed_frames{0}, unexpected_frames{0}, tx_queue_full{0}, emergencies{0},
+        error_frames{0}, boot_ups{0};
+  } counters_;
+};
+
+}  // namespace cambio::canopen

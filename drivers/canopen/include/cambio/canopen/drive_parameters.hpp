@@ -1,0 +1,38 @@
+#pragma once
+
+// The CiA 402 parameters a master writes to each drive from the rig (hal::HardwareInfo) at
+// configure time, then reads back (object_write.hpp): a drive that did not take a value is not
+// enabled.
+//   0x6060     modes of operation: 8 (CSP) or 9 (CSV), from JointDriveInfo::mode
+//   0x607D:1/2 software position limits, counts (swapped when the gear ratio is negative)
+//   0x607F     max profile velocity, counts/s, from the joint's max velocity
+//   0x6065     following error window, counts (only when the rig sets it)
+//   0x1017     producer heartbeat time, ms, from the group's heartbeat period
+//   0x60C2:1/2 interpolation time period: value * 10^index s = the group's SYNC period
+
+#include <cstdint>
+#include <vector>
+
+#include "cambio/canopen/object_write.hpp"
+#include "cambio/hal/hardware_info.hpp"
+
+namespace cambio::canopen {
+
+/// CiA 402's interpolation time period (0x60C2): value (UNSIGNED8) * 10^index (INTEGER8) s.
+struct InterpolationPeriod {
+  std::uint8_t value = 1;
+  std::int8_t index = -3;
+};
+
+/// The exact representation of `period_s` with the largest unit (index from 0 down to -6) whose
+/// value fits 1..255; else the closest. Throws std::invalid_argument for a period outside
+/// 1 us .. 255 s.
+InterpolationPeriod interpolation_period(double period_s);
+
+/// The writes for `joint` (which must have a drive) of `group`, whose SYNC runs at `rate_hz`.
+/// Throws std::invalid_argument naming the joint for values a drive cannot hold (a limit beyond
+/// INTEGER32 counts, a heartbeat period beyond 65535 ms).
+std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
+                                                const hal::JointGroupInfo& group, double rate_hz);
+
+}  // namespace cambio::canopen

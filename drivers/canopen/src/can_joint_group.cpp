@@ -1,0 +1,310 @@
+#include "cambio/canopen/can_joint_group.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace cambio::canopen {
+
+CanJointGroup::CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDriveInfo> drives,
+                             double rate_hz, hal::CanBus& bus, const hal::Clock& clock)
+    : info_(std::move(info)),
+      rate_hz_(rate_hz),
+      bus_(bus),
+      clock_(clock),
+      stale_after_syncs_(std::max(1, info_.can.stale_after_missed_syncs)) {
+  if (drives.size() != info_.joints.size() || info_.limits.size() != info_.joints.size()) {
+    throw std::invalid_argument("CAN joint group '" + info_.name +
+                                "': one drive and one set of limits per joint are needed");
+  }
+  if (!(rate_hz > 0.0)) {
+    throw std::invalid_argument("CAN joint group '" + info_.name + "': rate must be > 0 Hz");
+  }
+  const hal::CommandMode mode = drives.empty() ? hal::CommandMode::kPosition : drives[0].mode;
+  layout_ = pdo_layout(mode, info_.can);
+  slot_of_node_.fill(-1);
+  const auto heartbeat_ns =
+      static_cast<std::int64_t>(std::llround(info_.can.heartbeat_period_s * 1e9));
+  for (std::size_t k = 0; k < drives.size(); ++k) {
+    const hal::JointDriveInfo& drive = drives[k];
+    const std::string joint =
+        "CAN joint group '" + info_.name + "', joint '" + info_.joints[k] + "'";
+    if (drive.node_id < kMinNodeId || drive.node_id > kMaxNodeId) {
+      throw std::invalid_argument(joint + ": node id " + std::to_string(drive.node_id) +
+                                  " is outside 1..127");
+    }
+    if (slot_of_node_[static_cast<std::size_t>(drive.node_id)] >= 0) {
+      throw std::invalid_argument(joint + ": node id " + std::to_string(drive.node_id) +
+                                  " is used twice in the group");
+    }
+    if (drive.mode != mode) {
+      throw std::invalid_argument(joint + ": every drive of a group runs the same mode (the " +
+                                  "PDO layout is per group)");
+    }
+    if (drive.encoder_counts_per_rev <= 0 || !std::isfinite(drive.gear_ratio) ||
+        drive.gear_ratio == 0.0) {
+      throw std::invalid_argument(joint + ": encoder_counts_per_rev must be > 0 and gear_ratio " +
+                                  "finite and non-zero");
+    }
+    slot_of_node_[static_cast<std::size_t>(drive.node_id)] = static_cast<std::int16_t>(k);
+    Slot slot;
+    slot.drive = Cia402Drive(drive.node_id,
+                             cia402::Units::from(drive.gear_ratio, drive.encoder_counts_per_rev),
+                             drive.mode);
+    slot.heartbeat = HeartbeatConsumer(heartbeat_ns);
+    slot.gear_ratio = drive.gear_ratio;
+    slots_.push_back(slot);
+  }
+  // RPDO1 (and RPDO2 when mapped) per drive, then SYNC.
+  const std::size_t per_drive = layout_.rpdos[1].empty() ? 1 : 2;
+  tx_.resize(slots_.size() * per_drive + 1);
+}
+
+void CanJointGroup::seed_feedback(std::size_t joint, const DriveFeedback& feedback,
+                                  std::int64_t stamp_ns) {
+  slots_[joint].drive.on_feedback(feedback);
+  slots_[joint].stamp_ns = stamp_ns;
+}
+
+void CanJointGroup::set_rated_torque(std::size_t joint, double rated_torque_nm) {
+  slots_[joint].rated_torque_nm = rated_torque_nm;
+}
+
+void CanJointGroup::arm(std::int64_t now_ns) {
+  for (Slot& slot : slots_) {
+    slot.heartbeat.arm(now_ns);
+    slot.missed_syncs = 0;
+    slot.answered = false;
+  }
+  sync_to_check_ = false;
+}
+
+bool CanJointGroup::faulted_or_lost(const Slot& slot) const {
+  return hal::is_faulted(slot.drive.state()) || slot.heartbeat.lost() || slot.heartbeat.rebooted();
+}
+
+void CanJointGroup::on_tpdo(Slot& slot, int pdo, const hal::CanFrame& frame,
+                            std::int64_t stamp_ns) {
+  const PdoMapping& mapping = layout_.tpdos[static_cast<std::size_t>(pdo)];
+  DriveFeedback feedback = slot.drive.feedback();
+  if (mapping.empty() ||
+      !unpack_pdo(mapping, frame,
+                  [&feedback](ObjectAddress object, std::uint32_t raw, std::size_t bytes) {
+                    store_feedback(feedback, object, raw, bytes);
+                  })) {
+    bump(counters_.malformed_frames);
+    return;
+  }
+  bump(counters_.tpdos_received);
+  slot.drive.on_feedback(feedback);
+  if (pdo != 0) return;
+  // TPDO1 is the answer to a SYNC. One that arrived before the last SYNC went out, or a second
+  // one in the same cycle, answered an earlier SYNC: late.
+  if (slot.answered || (last_sync_ns_ > 0 && stamp_ns < last_sync_ns_)) {
+    bump(counters_.late_tpdos);
+  }
+  slot.answered = true;
+  slot.missed_syncs = 0;
+  slot.stamp_ns = stamp_ns;
+}
+
+void CanJointGroup::dispatch(const hal::CanFrame& frame, std::int64_t now_ns) {
+  if (frame.error_frame) {
+    bump(counters_.error_frames);
+    return;
+  }
+  const std::int64_t stamp_ns = frame.stamp_ns > 0 ? frame.stamp_ns : now_ns;
+  const int node = node_of(frame.id);
+  const std::int16_t index =
+      frame.extended_id || frame.id > 0x7FF ? -1 : slot_of_node_[static_cast<std::size_t>(node)];
+  if (index < 0 || node == 0) {
+    bump(counters_.unexpected_frames);
+    return;
+  }
+  Slot& slot = slots_[static_cast<std::size_t>(index)];
+  switch (function_of(frame.id)) {
+    case 0x180:
+      on_tpdo(slot, 0, frame, stamp_ns);
+      return;
+    case 0x280:
+      on_tpdo(slot, 1, frame, stamp_ns);
+      return;
+    case 0x080: {
+      const auto emergency = decode_emergency(frame);
+      if (!emergency) {
+        bump(counters_.malformed_frames);
+        return;
+      }
+      bump(counters_.emergencies);
+      slot.emergency.on_emergency(*emergency);
+      return;
+    }
+    case 0x700: {
+      const auto state = heartbeat_state(frame);
+      if (!state) {
+        bump(counters_.malformed_frames);
+        return;
+      }
+      if (*state == NmtState::kBootUp) bump(counters_.boot_ups);
+      slot.heartbeat.on_heartbeat(*state, stamp_ns);
+      return;
+    }
+    default:
+      bump(counters_.unexpected_frames);
+      return;
+  }
+}
+
+hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& stamp_ns) {
+  if (out.size() != slots_.size()) return hal::Status::kRejected;
+  const std::int64_t now_ns = clock_.now_ns();
+  hal::CanFrame frame;
+  while (bus_.receive(frame) == hal::Status::kOk) dispatch(frame, now_ns);
+
+  if (sync_to_check_) {
+    for (Slot& slot : slots_) {
+      if (!slot.answered) {
+        ++slot.missed_syncs;
+        bump(counters_.missed_sync_answers);
+      }
+    }
+    sync_to_check_ = false;
+  }
+  bool any_fault = false;
+  for (Slot& slot : slots_) {
+    (void)slot.heartbeat.check(now_ns);
+    any_fault = any_fault || faulted_or_lost(slot);
+  }
+  // Latched until a fault reset finds every drive out of its fault and heard again.
+  hold_latched_ = hold_latched_ || any_fault;
+  if (reset_pending_ && !any_fault) {
+    hold_latched_ = false;
+    reset_pending_ = false;
+  }
+
+  hal::Status status = hal::Status::kOk;
+  stamp_ns = 0;
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    const Slot& slot = slots_[k];
+    hal::JointState& state = out[k];
+    const DriveFeedback& feedback = slot.drive.feedback();
+    const cia402::Units& units = slot.drive.units();
+    state.position_rad = units.to_rad(feedback.position_counts);
+    state.velocity_rad_s =
+        layout_.tpdos[1].empty() ? 0.0 : units.to_rad(feedback.velocity_counts_s);
+    // Torque actual is per mille of the motor's rated torque; the gear multiplies it.
+    state.effort_nm = static_cast<double>(feedback.torque_per_mille) * 1e-3 * slot.rated_torque_nm *
+                      slot.gear_ratio;
+    state.stamp_ns = slot.stamp_ns;
+    state.error_code = slot.emergency.error_code;
+    state.drive_state = slot.drive.state();
+    std::uint32_t bits = slot.clamped_bits;
+    if (hal::is_faulted(slot.drive.state())) bits |= hal::kJointFault;
+    if (!hal::is_enabled(slot.drive.state())) bits |= hal::kJointNotEnabled;
+    if (slot.heartbeat.lost() || slot.heartbeat.rebooted()) bits |= hal::kJointCommLost;
+    if (slot.missed_syncs >= stale_after_syncs_) bits |= hal::kJointStale;
+    state.status_bits = bits;
+    if ((bits & hal::kJointLatchingBits) != 0) status = hal::Status::kFault;
+    stamp_ns = std::max(stamp_ns, slot.stamp_ns);
+  }
+  return status;
+}
+
+void CanJointGroup::build_rpdos(bool use_commands) {
+  tx_count_ = 0;
+  for (Slot& slot : slots_) {
+    hal::JointCommand command = slot.command;
+    if (!use_commands) {
+      // No write() this cycle: hold where the joint is.
+      command = {slot.drive.mode(),
+                 slot.drive.mode() == hal::CommandMode::kPosition ? slot.drive.position_rad() : 0.0,
+                 0.0, 0.0};
+    }
+    const DriveTargets targets = slot.drive.next_targets(command, hold_latched_);
+    const auto value_of = [&targets](ObjectAddress object) { return raw_target(targets, object); };
+    pack_pdo(layout_.rpdos[0], rpdo_cob_id(1, slot.drive.node_id()), value_of, tx_[tx_count_++]);
+    if (!layout_.rpdos[1].empty()) {
+      pack_pdo(layout_.rpdos[1], rpdo_cob_id(2, slot.drive.node_id()), value_of, tx_[tx_count_++]);
+    }
+  }
+  tx_[tx_count_++] = sync_frame();
+}
+
+hal::Status CanJointGroup::write(std::span<const hal::JointCommand> commands) {
+  if (commands.size() != slots_.size()) return hal::Status::kRejected;
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    Slot& slot = slots_[k];
+    slot.command = commands[k];
+    const bool clamped = hal::clamp_command(slot.command, info_.limits[k]);
+    slot.clamped_bits = clamped ? hal::kJointCommandClamped : 0u;
+  }
+  build_rpdos(true);
+  written_ = true;
+  return hal::Status::kOk;
+}
+
+hal::Status CanJointGroup::sync() {
+  if (!written_) build_rpdos(false);
+  written_ = false;
+  const std::size_t sent = bus_.send_batch(std::span(tx_).first(tx_count_));
+  const std::int64_t now_ns = clock_.now_ns();
+  if (sent < tx_count_) {
+    bump(counters_.tx_queue_full, tx_count_ - sent);
+    return bus_.status().state == hal::CanBusState::kBusOff ||
+                   bus_.status().state == hal::CanBusState::kDown
+               ? hal::Status::kFault
+               : hal::Status::kNoNewData;
+  }
+  bump(counters_.syncs_sent);
+  last_sync_ns_ = now_ns;
+  sync_to_check_ = true;
+  for (Slot& slot : slots_) slot.answered = false;
+  return hal::Status::kOk;
+}
+
+hal::Status CanJointGroup::request(hal::DriveRequest request, int joint) {
+  const int count = static_cast<int>(slots_.size());
+  if (joint != kAllJoints && (joint < 0 || joint >= count)) return hal::Status::kRejected;
+  const int first = joint == kAllJoints ? 0 : joint;
+  const int last = joint == kAllJoints ? count : joint + 1;
+  for (int k = first; k < last; ++k) {
+    Slot& slot = slots_[static_cast<std::size_t>(k)];
+    slot.drive.request(request);
+    if (request == hal::DriveRequest::kFaultReset) {
+      slot.emergency.clear();
+      slot.heartbeat.clear_lost();
+    }
+  }
+  if (request == hal::DriveRequest::kFaultReset) reset_pending_ = true;
+  return hal::Status::kOk;
+}
+
+CanGroupCounters CanJointGroup::counters() const {
+  const auto load = [](const std::atomic<std::uint64_t>& counter) {
+    return counter.load(std::memory_order_relaxed);
+  };
+  return {load(counters_.syncs_sent),          load(counters_.tpdos_received),
+          load(counters_.missed_sync_answers), load(counters_.late_tpdos),
+          load(counters_.malformed_frames),    load(counters_.unexpected_frames),
+          load(counters_.tx_queue_full),       load(counters_.emergencies),
+          load(counters_.error_frames),        load(counters_.boot_ups)};
+}
+
+std::size_t CanJointGroup::shutdown_frames(std::uint16_t controlword,
+                                           std::span<hal::CanFrame> out) const {
+  std::size_t count = 0;
+  for (const Slot& slot : slots_) {
+    if (count >= out.size()) return count;
+    DriveTargets targets;
+    targets.controlword = controlword;
+    targets.target_position_counts = slot.drive.feedback().position_counts;
+    pack_pdo(
+        layout_.rpdos[0], rpdo_cob_id(1, slot.drive.node_id()),
+        [&targets](ObjectAddress object) { return raw_target(targets, object); }, out[count++]);
+  }
+  if (count < out.size()) out[count++] = sync_frame();
+  return count;
+}
+
+}  // namespace cambio::canopen

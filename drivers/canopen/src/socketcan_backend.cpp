@@ -1,0 +1,249 @@
+#include "cambio/canopen/socketcan_backend.hpp"
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "cambio/canopen/drive_parameters.hpp"
+#include "cambio/canopen/nmt_master.hpp"
+#include "cambio/canopen/object_write.hpp"
+#include "cambio/canopen/pdo_configuration.hpp"
+#include "cambio/canopen/sdo_transfer.hpp"
+
+namespace cambio::canopen {
+
+namespace {
+
+std::string quoted(std::string_view name) {
+  return "'" + std::string(name) + "'";
+}
+
+std::int64_t to_ns(double seconds) {
+  return static_cast<std::int64_t>(std::llround(seconds * 1e9));
+}
+
+/// Forwards to a group the backend owns, so deactivate() can reach the drives whatever the
+/// application did with the handle.
+class CanJointGroupHandle final : public hal::JointGroup {
+ public:
+  explicit CanJointGroupHandle(CanJointGroup& group) : group_(group) {}
+  const hal::JointGroupInfo& info() const override { return group_.info(); }
+  hal::Status read(std::span<hal::JointState> out, std::int64_t& stamp_ns) override {
+    return group_.read(out, stamp_ns);
+  }
+  hal::Status write(std::span<const hal::JointCommand> commands) override {
+    return group_.write(commands);
+  }
+  hal::Status request(hal::DriveRequest request, int joint) override {
+    return group_.request(request, joint);
+  }
+  hal::Status sync() override { return group_.sync(); }
+
+ private:
+  CanJointGroup& group_;
+};
+
+}  // namespace
+
+SocketCanBackend::SocketCanBackend(const hal::HardwareInfo& hardware,
+                                   const hal::BackendContext& context, BusOpener opener,
+                                   SocketCanBackendOptions options)
+    : hardware_(hardware),
+      clock_(*context.clock),
+      opener_(std::move(opener)),
+      options_(std::move(options)) {
+  if (!opener_) throw std::invalid_argument("socketcan: no bus opener given");
+}
+
+SocketCanBackend::~SocketCanBackend() {
+  deactivate();
+}
+
+std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_view group_name) {
+  const hal::JointGroupInfo* info = hardware_.find_group(group_name);
+  if (info == nullptr) {
+    throw std::runtime_error("socketcan: the rig has no joint group " + quoted(group_name));
+  }
+  if (info->backend != kName) {
+    throw hal::BackendUnavailable("socketcan: joint group " + quoted(group_name) +
+                                  " names backend " + quoted(info->backend) + ", not 'socketcan'");
+  }
+  if (groups_.count(group_name) != 0) {
+    throw std::runtime_error("socketcan: joint group " + quoted(group_name) +
+                             " was already made (one writer per group)");
+  }
+  const hal::CanBusInfo* bus_info = hardware_.find_can_bus(info->can_bus);
+  if (bus_info == nullptr) {
+    throw std::runtime_error("socketcan: joint group " + quoted(group_name) + " names CAN bus " +
+                             quoted(info->can_bus) + ", which the rig's can_buses do not list");
+  }
+  const auto used = buses_.find(info->can_bus);
+  if (used != buses_.end()) {
+    throw std::runtime_error("socketcan: joint groups " + quoted(used->second.group) + " and " +
+                             quoted(group_name) + " share CAN bus " + quoted(info->can_bus) +
+                             "; each CAN group produces its bus's SYNC at its own rate, so one "
+                             "group per bus");
+  }
+  std::vector<hal::JointDriveInfo> drives;
+  for (const std::string& joint_name : info->joints) {
+    const hal::JointInfo* joint = hardware_.find_joint(joint_name);
+    if (joint == nullptr || !joint->drive) {
+      throw std::runtime_error("socketcan: joint " + quoted(joint_name) + " of group " +
+                               quoted(group_name) + " has no CAN drive (can.node_id)");
+    }
+    drives.push_back(*joint->drive);
+  }
+  const double rate_hz = info->rate_hz > 0.0 ? info->rate_hz : options_.default_joint_rate_hz;
+
+  Bus bus{*bus_info, opener_(*bus_info), std::string(group_name)};
+  if (bus.bus == nullptr) {
+    throw std::runtime_error("socketcan: could not open CAN bus " + quoted(bus_info->name) +
+                             " (interface " + quoted(bus_info->interface) + ")");
+  }
+  auto group = std::make_unique<CanJointGroup>(*info, std::move(drives), rate_hz, *bus.bus, clock_);
+  auto handle = std::make_unique<CanJointGroupHandle>(*group);
+  buses_.emplace(info->can_bus, std::move(bus));
+  groups_.emplace(std::string(group_name), std::move(group));
+  return handle;
+}
+
+std::unique_ptr<hal::Camera> SocketCanBackend::make_camera(std::string_view camera_name) {
+  throw hal::BackendUnavailable("socketcan: camera " + quoted(camera_name) +
+                                ": the socketcan backend drives joints only");
+}
+
+std::unique_ptr<hal::TouchSensor> SocketCanBackend::make_touch_sensor(
+    std::string_view sensor_name) {
+  throw hal::BackendUnavailable("socketcan: touch sensor " + quoted(sensor_name) +
+                                ": the socketcan backend drives joints only");
+}
+
+const CanJointGroup* SocketCanBackend::group(std::string_view group_name) const {
+  const auto it = groups_.find(group_name);
+  return it == groups_.end() ? nullptr : it->second.get();
+}
+
+void SocketCanBackend::configure() {
+  for (auto& [name, group] : groups_) configure_group(*group, *hardware_.find_group(name));
+  configured_ = true;
+}
+
+void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGroupInfo& info) {
+  const double sdo_timeout_s = info.can.sdo_timeout_s;
+  const std::string where = "socketcan: joint group " + quoted(info.name) + " on CAN bus " +
+                            quoted(info.can_bus) + " (" + group.bus().name() + ")";
+  BusPump pump(group.bus(), clock_, options_.waiter);
+  std::set<int> booted;
+  pump.set_other_frame_handler([&booted](const hal::CanFrame& frame) {
+    if (function_of(frame.id) == 0x700 && !frame.extended_id) {
+      const auto state = heartbeat_state(frame);
+      if (state == NmtState::kBootUp) booted.insert(node_of(frame.id));
+    }
+  });
+
+  // Reset communication: every drive restarts its communication objects (PDO mappings included)
+  // and announces itself with a boot-up.
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    pump.send(nmt_frame(NmtCommand::kResetCommunication, group.drive(k).node_id()),
+              to_ns(sdo_timeout_s), where + ": NMT reset communication");
+  }
+  (void)pump.pump_until([](const hal::CanFrame&) { return false; },
+                        [&] { return booted.size() >= group.size(); },
+                        to_ns(options_.boot_timeout_s));
+
+  std::vector<std::string> mismatches;
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    const int node = group.drive(k).node_id();
+    const hal::JointInfo& joint = *hardware_.find_joint(info.joints[k]);
+    const std::string what = "joint " + quoted(joint.name);
+    try {
+      // A drive that sent no boot-up must at least answer: its device type says it is CiA 402.
+      const std::uint32_t device_type =
+          sdo_read_value(pump, node, ObjectAddress{kDeviceType, 0}, sdo_timeout_s);
+      if ((device_type & 0xFFFF) != (cia402::kDeviceTypeServoDrive & 0xFFFF)) {
+        throw std::runtime_error("node " + std::to_string(node) + ": device type " +
+                                 describe_value({{kDeviceType, 0}, 0, 4}, device_type) +
+                                 " is not a CiA 402 drive");
+      }
+      const std::vector<ObjectWrite> parameters =
+          drive_parameter_writes(joint, info, group.rate_hz());
+      const std::vector<ObjectWrite> pdos = pdo_configuration_writes(node, group.layout());
+      write_objects(pump, node, parameters, sdo_timeout_s);
+      write_objects(pump, node, pdos, sdo_timeout_s);
+      for (auto* writes : {&parameters, &pdos}) {
+        auto found = verify_objects(pump, node, what, *writes, sdo_timeout_s);
+        mismatches.insert(mismatches.end(), found.begin(), found.end());
+      }
+      if (info.can.effort_feedback) {
+        const std::uint32_t rated_mnm =
+            sdo_read_value(pump, node, cia402::kRatedTorque, sdo_timeout_s);
+        group.set_rated_torque(k, static_cast<double>(rated_mnm) * 1e-3);
+      }
+      DriveFeedback feedback;
+      feedback.statusword = static_cast<std::uint16_t>(
+          sdo_read_value(pump, node, cia402::kStatusword, sdo_timeout_s));
+      feedback.position_counts =
+          sign_extend(sdo_read_value(pump, node, cia402::kPositionActualValue, sdo_timeout_s), 4);
+      group.seed_feedback(k, feedback, clock_.now_ns());
+    } catch (const std::exception& error) {
+      throw std::runtime_error(
+          where + ", " + what + ": " + error.what() +
+          (booted.count(node) == 0 ? " (no boot-up was seen from node " + std::to_string(node) + ")"
+                                   : ""));
+    }
+  }
+  if (!mismatches.empty()) {
+    std::string text = where + ": drives did not take their parameters; not enabling:";
+    for (const std::string& mismatch : mismatches) text += "\n  " + mismatch;
+    throw std::runtime_error(text);
+  }
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    pump.send(nmt_frame(NmtCommand::kStart, group.drive(k).node_id()), to_ns(sdo_timeout_s),
+              where + ": NMT start");
+  }
+}
+
+void SocketCanBackend::activate() {
+  if (!configured_) throw std::logic_error("socketcan: activate() before configure()");
+  for (auto& [name, group] : groups_) group->arm(clock_.now_ns());
+  active_ = true;
+}
+
+void SocketCanBackend::deactivate() noexcept {
+  if (!configured_) return;
+  // Best effort and without waiting: quick stop (drives brake), disable (torque off), then
+  // pre-operational (no more PDOs). Frames a full queue refuses are lost; nothing here throws.
+  std::vector<hal::CanFrame> frames;
+  try {
+    for (auto& [name, group] : groups_) {
+      frames.resize(group->size() + 1);
+      for (const std::uint16_t controlword :
+           {cia402::kControlQuickStop, cia402::kControlDisableVoltage}) {
+        const std::size_t count = group->shutdown_frames(controlword, frames);
+        (void)group->bus().send_batch(std::span(frames).first(count));
+      }
+      for (std::size_t k = 0; k < group->size(); ++k) {
+        (void)group->bus().send(
+            nmt_frame(NmtCommand::kEnterPreOperational, group->drive(k).node_id()));
+      }
+    }
+  } catch (...) {
+    // The vector's allocation is the only thing that can throw; the drives' own heartbeat
+    // consumers and watchdogs cover a master that could not say goodbye.
+  }
+  active_ = false;
+  configured_ = false;
+}
+
+void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
+                                SocketCanBackendOptions options) {
+  factory.register_backend(
+      SocketCanBackend::kName,
+      [opener = std::move(opener), options = std::move(options)](
+          const hal::HardwareInfo& hardware, const hal::BackendContext& context) {
+        return std::unique_ptr<hal::Backend>(
+            std::make_unique<SocketCanBackend>(hardware, context, opener, options));
+      });
+}
+
+}  // namespace cambio::canopen

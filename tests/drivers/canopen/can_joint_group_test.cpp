@@ -1,0 +1,312 @@
+// The CAN joint group's cycle against the test's own CiA 402 drive (test_drive.hpp) on the
+// in-process bus, time driven by a ManualClock: controlword sequences (CiA 402-2 Table 29),
+// enabling at the measured position, heartbeat loss, EMCY, stale readings, no motion after a
+// fault, bad frames, and no allocation in read/write/sync.
+#include "cambio/canopen/can_joint_group.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "cambio/can/in_process_can_bus.hpp"
+#include "cambio/canopen/pdo_configuration.hpp"
+#include "cambio/hal/manual_clock.hpp"
+#include "cambio/runtime/allocation_counter.hpp"
+#include "test_drive.hpp"
+
+namespace cambio::canopen {
+namespace {
+
+using hal::DriveRequest;
+using hal::DriveState;
+
+constexpr std::int64_t kPeriodNs = 1'000'000;  // 1 kHz.
+constexpr std::int32_t kStartCounts = 12345;
+
+struct Fixture {
+  explicit Fixture(int joints = 1, hal::CanGroupSettings settings = {}) {
+    hal::JointGroupInfo info;
+    info.name = "head";
+    info.backend = "socketcan";
+    info.can_bus = "can0";
+    info.can = settings;
+    std::vector<hal::JointDriveInfo> drive_infos;
+    for (int k = 0; k < joints; ++k) {
+      info.joints.push_back("j" + std::to_string(k));
+      info.limits.push_back({-1.0, 1.0, 2.0, 10.0, 0.0});
+      hal::JointDriveInfo drive;
+      drive.node_id = 10 + k;
+      drive.gear_ratio = 10.0;
+      drive.encoder_counts_per_rev = 10000;
+      drive_infos.push_back(drive);
+      drives.push_back(std::make_unique<testing::TestDrive>(
+          network.add_endpoint("drive" + std::to_string(k)), drive.node_id));
+    }
+    group = std::make_unique<CanJointGroup>(info, drive_infos, 1000.0, master, clock);
+    BusPump pump(master, clock, [this](hal::CanBus&, std::int64_t) { step_drives(); });
+    for (int k = 0; k < joints; ++k) {
+      const int node = 10 + k;
+      write_objects(pump, node, pdo_configuration_writes(node, group->layout()), 0.1);
+      drives[static_cast<std::size_t>(k)]->nmt_state = 0x05;
+      drives[static_cast<std::size_t>(k)]->position_counts = kStartCounts;
+      DriveFeedback seed;
+      seed.statusword = 0x0040;
+      seed.position_counts = kStartCounts;
+      group->seed_feedback(static_cast<std::size_t>(k), seed, clock.now_ns());
+    }
+    states.resize(static_cast<std::size_t>(joints));
+    commands.resize(static_cast<std::size_t>(joints), {hal::CommandMode::kPosition, 0.5, 0, 0});
+    group->arm(clock.now_ns());
+  }
+
+  void step_drives() {
+    for (auto& drive : drives) drive->step();
+  }
+
+  /// One joint-loop cycle, then the drives answer the SYNC.
+  hal::Status cycle() {
+    clock.advance_to_ns(clock.now_ns() + kPeriodNs);
+    std::int64_t stamp_ns = 0;
+    hal::Status status = group->read(states, stamp_ns);
+    status = hal::worst(status, group->write(commands));
+    status = hal::worst(status, group->sync());
+    step_drives();
+    return status;
+  }
+
+  hal::ManualClock clock{1'000'000'000};
+  can::InProcessCanNetwork network{false, &clock};
+  hal::CanBus& master = network.add_endpoint("master");
+  std::vector<std::unique_ptr<testing::TestDrive>> drives;
+  std::unique_ptr<CanJointGroup> group;
+  std::vector<hal::JointState> states;
+  std::vector<hal::JointCommand> commands;
+};
+
+TEST(CanJointGroup, EnableWalksCia402AndStartsAtTheMeasuredPosition) {
+  Fixture f;
+  ASSERT_EQ(f.group->request(DriveRequest::kEnable), hal::Status::kOk);
+  for (int k = 0; k < 6; ++k) (void)f.cycle();
+  const auto& drive = *f.drives[0];
+  // Shutdown, switch on, enable operation (Table 29), then enable operation held.
+  ASSERT_GE(drive.controlwords_at_sync.size(), 6u);
+  EXPECT_EQ(drive.controlwords_at_sync[0], 0x0006);
+  EXPECT_EQ(drive.controlwords_at_sync[1], 0x0007);
+  EXPECT_EQ(drive.controlwords_at_sync[2], 0x000F);
+  EXPECT_EQ(drive.controlwords_at_sync[3], 0x000F);
+  // Until the master has seen the drive enabled for a whole cycle, the target is where the
+  // drive is: enabling never jumps.
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(drive.targets_at_sync[i], kStartCounts) << i;
+  const auto units = cia402::Units::from(10.0, 10000);
+  EXPECT_EQ(drive.targets_at_sync[4], units.to_counts(0.5));
+  std::int64_t stamp_ns = 0;
+  ASSERT_EQ(f.group->read(f.states, stamp_ns), hal::Status::kOk);
+  EXPECT_EQ(f.states[0].drive_state, DriveState::kOperationEnabled);
+  EXPECT_NEAR(f.states[0].position_rad, 0.5, 1.0 / units.counts_per_rad);
+  EXPECT_EQ(f.states[0].status_bits, hal::kJointOk);
+  EXPECT_EQ(f.states[0].stamp_ns, f.clock.now_ns()) << "stamped by its TPDO's arrival";
+}
+
+TEST(CanJointGroup, DisableQuickStopAndReEnable) {
+  Fixture f;
+  (void)f.group->request(DriveRequest::kEnable);
+  for (int k = 0; k < 5; ++k) (void)f.cycle();
+  ASSERT_EQ(f.drives[0]->state, DriveState::kOperationEnabled);
+  (void)f.group->request(DriveRequest::kQuickStop);
+  (void)f.cycle();
+  EXPECT_EQ(f.drives[0]->controlwords_at_sync.back(), 0x0002);
+  EXPECT_EQ(f.drives[0]->state, DriveState::kQuickStopActive);
+  (void)f.group->request(DriveRequest::kEnable);
+  (void)f.cycle();
+  (void)f.cycle();
+  EXPECT_EQ(f.drives[0]->state, DriveState::kOperationEnabled) << "transition 16";
+  (void)f.group->request(DriveRequest::kDisable);
+  (void)f.cycle();
+  EXPECT_EQ(f.drives[0]->controlwords_at_sync.back(), 0x0000);
+  EXPECT_EQ(f.drives[0]->state, DriveState::kSwitchOnDisabled);
+}
+
+TEST(CanJointGroup, FaultHoldsTheWholeGroupUntilResetThenReEnablesWithoutJump) {
+  Fixture f(2);
+  (void)f.group->request(DriveRequest::kEnable);
+  for (int k = 0; k < 6; ++k) (void)f.cycle();
+  ASSERT_EQ(f.drives[1]->state, DriveState::kOperationEnabled);
+  f.drives[0]->fault();
+  f.commands = {{hal::CommandMode::kPosition, -0.5, 0, 0},
+                {hal::CommandMode::kPosition, -0.5, 0, 0}};
+  (void)f.cycle();  // The drive reports its fault.
+  EXPECT_EQ(f.cycle(), hal::Status::kFault);
+  EXPECT_NE(f.states[0].status_bits & hal::kJointFault, 0u);
+  const std::int32_t held = f.drives[1]->position_counts;
+  for (int k = 0; k < 5; ++k) (void)f.cycle();
+  // No motion command went out: the healthy drive was quick-stopped where it was.
+  EXPECT_EQ(f.drives[1]->controlwords_at_sync.back(), 0x0002);
+  EXPECT_EQ(f.drives[1]->state, DriveState::kQuickStopActive);
+  EXPECT_EQ(f.drives[1]->position_counts, held);
+  EXPECT_EQ(f.drives[1]->targets_at_sync.back(), held);
+  EXPECT_EQ(f.drives[0]->controlwords_at_sync.back(), 0x0000) << "a faulted drive waits";
+
+  (void)f.group->request(DriveRequest::kFaultReset);
+  for (int k = 0; k < 3; ++k) (void)f.cycle();
+  // Bit 7 rises once after a low controlword (the drive acts on the edge).
+  const auto& words = f.drives[0]->controlwords_at_sync;
+  EXPECT_EQ(words[words.size() - 3], 0x0080);
+  EXPECT_EQ(f.drives[0]->state, DriveState::kSwitchOnDisabled);
+  EXPECT_EQ(f.cycle(), hal::Status::kOk);
+  EXPECT_EQ(f.states[0].status_bits & hal::kJointLatchingBits, 0u);
+
+  (void)f.group->request(DriveRequest::kEnable);
+  const std::int32_t at_reenable = f.drives[1]->position_counts;
+  for (int k = 0; k < 4; ++k) (void)f.cycle();
+  EXPECT_EQ(f.drives[1]->state, DriveState::kOperationEnabled);
+  EXPECT_EQ(f.drives[1]->targets_at_sync.back(), at_reenable) << "first target: where it is";
+  (void)f.cycle();
+  const auto units = cia402::Units::from(10.0, 10000);
+  EXPECT_EQ(f.drives[1]->targets_at_sync.back(), units.to_counts(-0.5));
+}
+
+TEST(CanJointGroup, HeartbeatLossLatchesWithinThreePeriods) {
+  hal::CanGroupSettings settings;
+  settings.heartbeat_period_s = 0.1;
+  Fixture f(1, settings);
+  std::int64_t lost_at_ns = 0;
+  std::int64_t last_heartbeat_ns = 0;
+  for (int k = 1; k <= 2000 && lost_at_ns == 0; ++k) {
+    // Heartbeats every 100 ms until t0 + 1 s, then silence.
+    if (k % 100 == 0 && k <= 1000) {
+      f.drives[0]->send_heartbeat();
+      last_heartbeat_ns = f.clock.now_ns();
+    }
+    (void)f.cycle();
+    if ((f.states[0].status_bits & hal::kJointCommLost) != 0) lost_at_ns = f.clock.now_ns();
+  }
+  ASSERT_GT(lost_at_ns, 0);
+  EXPECT_GT(lost_at_ns - last_heartbeat_ns, 300'000'000);
+  EXPECT_LE(lost_at_ns - last_heartbeat_ns, 300'000'000 + kPeriodNs);
+  // Latched: heartbeats again do not clear it; a fault reset does.
+  f.drives[0]->send_heartbeat();
+  EXPECT_EQ(f.cycle(), hal::Status::kFault);
+  EXPECT_NE(f.states[0].status_bits & hal::kJointCommLost, 0u);
+  (void)f.group->request(DriveRequest::kFaultReset);
+  f.drives[0]->send_heartbeat();
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].status_bits & hal::kJointCommLost, 0u);
+}
+
+TEST(CanJointGroup, RebootIsCommLostUntilReconfigured) {
+  Fixture f;
+  f.drives[0]->send_boot_up();
+  EXPECT_EQ(f.cycle(), hal::Status::kFault);
+  EXPECT_NE(f.states[0].status_bits & hal::kJointCommLost, 0u);
+  EXPECT_TRUE(f.group->needs_reconfiguration(0));
+  (void)f.group->request(DriveRequest::kFaultReset);
+  (void)f.cycle();
+  EXPECT_NE(f.states[0].status_bits & hal::kJointCommLost, 0u) << "a reset alone is not enough";
+  f.group->reconfigured(0);
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].status_bits & hal::kJointCommLost, 0u);
+}
+
+TEST(CanJointGroup, EmergencyCodeIsKeptUntilFaultReset) {
+  Fixture f;
+  f.drives[0]->send_emcy(0x8611, 0x20);
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].error_code, 0x8611);
+  f.drives[0]->send_emcy(0x0000, 0x00);  // "Error reset".
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].error_code, 0x8611);
+  (void)f.group->request(DriveRequest::kFaultReset);
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].error_code, 0);
+  EXPECT_EQ(f.group->counters().emergencies, 2u);
+}
+
+TEST(CanJointGroup, StaleAfterTheConfiguredMissedSyncs) {
+  hal::CanGroupSettings settings;
+  settings.stale_after_missed_syncs = 3;
+  Fixture f(1, settings);
+  (void)f.cycle();
+  f.drives[0]->answer_sync = false;
+  (void)f.cycle();  // Reads the last answer.
+  (void)f.cycle();  // Missed 1.
+  (void)f.cycle();  // Missed 2.
+  EXPECT_EQ(f.states[0].status_bits & hal::kJointStale, 0u);
+  (void)f.cycle();  // Missed 3.
+  EXPECT_NE(f.states[0].status_bits & hal::kJointStale, 0u);
+  EXPECT_EQ(f.group->counters().missed_sync_answers, 3u);
+  f.drives[0]->answer_sync = true;
+  (void)f.cycle();
+  (void)f.cycle();
+  EXPECT_EQ(f.states[0].status_bits & hal::kJointStale, 0u);
+}
+
+TEST(CanJointGroup, MalformedUnexpectedAndLateFramesAreCountedAndIgnored) {
+  Fixture f;
+  (void)f.cycle();
+  (void)f.cycle();
+  hal::CanBus& intruder = f.network.add_endpoint("intruder");
+  hal::CanFrame bad;
+  bad.id = 0x18A;  // TPDO1 of node 10, 3 bytes instead of 6.
+  bad.length = 3;
+  ASSERT_EQ(intruder.send(bad), hal::Status::kOk);
+  hal::CanFrame other;
+  other.id = 0x1B2;  // TPDO1 of node 50, not in the group.
+  other.length = 6;
+  ASSERT_EQ(intruder.send(other), hal::Status::kOk);
+  hal::CanFrame duplicate;
+  duplicate.id = 0x18A;
+  duplicate.length = 6;
+  duplicate.data = {0x40, 0x00, 0x39, 0x30, 0x00, 0x00};
+  ASSERT_EQ(intruder.send(duplicate), hal::Status::kOk);  // A second TPDO1 in one cycle.
+  (void)f.cycle();
+  const CanGroupCounters counters = f.group->counters();
+  EXPECT_EQ(counters.malformed_frames, 1u);
+  EXPECT_EQ(counters.unexpected_frames, 1u);
+  EXPECT_EQ(counters.late_tpdos, 1u);
+  EXPECT_EQ(f.states[0].drive_state, DriveState::kSwitchOnDisabled);
+}
+
+TEST(CanJointGroup, OneSendBatchPerCycleCarriesRpdosThenSync) {
+  Fixture f(2);
+  hal::CanBus& probe = f.network.add_endpoint("probe");
+  (void)f.cycle();
+  std::vector<std::uint32_t> ids;
+  hal::CanFrame frame;
+  while (probe.receive(frame) == hal::Status::kOk) {
+    if (frame.id < 0x180 || frame.id >= 0x200) ids.push_back(frame.id);  // Not the answers.
+  }
+  EXPECT_EQ(ids, (std::vector<std::uint32_t>{0x20A, 0x20B, 0x080}));
+}
+
+TEST(CanJointGroup, ReadWriteSyncDoNotAllocate) {
+  hal::CanGroupSettings settings;
+  settings.heartbeat_period_s = 0.1;
+  Fixture f(2, settings);
+  (void)f.group->request(DriveRequest::kEnable);
+  std::uint64_t allocations = 0;
+  std::int64_t stamp_ns = 0;
+  for (int k = 0; k < 3000; ++k) {
+    if (k % 100 == 0) {
+      for (auto& drive : f.drives) drive->send_heartbeat();
+    }
+    if (k == 1000) f.drives[0]->fault();
+    if (k == 1100) f.drives[0]->send_emcy(0x7300, 0x01);
+    if (k == 1500) (void)f.group->request(DriveRequest::kFaultReset);
+    if (k == 1600) (void)f.group->request(DriveRequest::kEnable);
+    f.drives[1]->answer_sync = k < 2000 || k > 2100;
+    f.clock.advance_to_ns(f.clock.now_ns() + kPeriodNs);
+    const std::uint64_t before = runtime::thread_allocation_count();
+    (void)f.group->read(f.states, stamp_ns);
+    (void)f.group->write(f.commands);
+    (void)f.group->sync();
+    allocations += runtime::thread_allocation_count() - before;
+    f.step_drives();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(f.drives[0]->state, DriveState::kOperationEnabled) << "the fault really happened";
+  EXPECT_GT(f.group->counters().missed_sync_answers, 50u);
+}
+
+}  // namespace
+}  // namespace cambio::canopen

@@ -9,6 +9,7 @@
 
 #include "argument_parser.hpp"
 #include "cambio/config/rig_loader.hpp"
+#include "can_interface_bitrate.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 
@@ -50,6 +51,26 @@ std::string vector_text(const std::array<double, 3>& v, double scale = 1.0) {
   return "[" + plain(v[0] * scale) + ", " + plain(v[1] * scale) + ", " + plain(v[2] * scale) + "]";
 }
 
+/// Whether this machine's interface runs at the rig's bit rate (the OS sets it, not the stack).
+void print_interface_check(const config::CanBusConfig& bus, std::ostream& out) {
+  const CanInterfaceBitrate here = query_can_interface_bitrate(bus.interface);
+  out << "    ";
+  if (!here.present) {
+    out << "interface " << bus.interface << " not present here: bit rate not checked\n";
+  } else if (!here.bitrate_bit_s) {
+    out << "interface "
+        << bus.interface << " reports no bit rate here (a virtual CAN interface has none): not checked\n";
+  } else if (*here.bitrate_bit_s == bus.bitrate_bit_s) {
+    out << "interface " << bus.interface << " runs at " << *here.bitrate_bit_s
+        << " bit/s, as the rig says\n";
+  } else {
+    out << "MISMATCH: interface " << bus.interface << " runs at " << *here.bitrate_bit_s
+        << " bit/s, the rig says " << bus.bitrate_bit_s << " (set it: ip link set "
+        << bus.interface << " down; ip link set " << bus.interface << " type can bitrate "
+        << bus.bitrate_bit_s << "; ip link set " << bus.interface << " up)\n";
+  }
+}
+
 void print_summary(const RigConfig& rig, std::ostream& out) {
   out << "rig " << rig.name << " (" << rig.source_file << "): OK\n";
   out << "  " << count(rig.joints.size(), "joint") << " in " << count(rig.groups.size(), "group")
@@ -61,7 +82,8 @@ void print_summary(const RigConfig& rig, std::ostream& out) {
 
   out << "\ngroups\n";
   for (const auto& group : rig.groups) {
-    out << "  " << group.name << ": backend " << group.backend;
+    out << "  " << group.name << ": backend " << group.backend << ", joint loop "
+        << plain(group.rate_hz) << " Hz" << (group.own_rate ? "" : " (loops.joint)");
     if (!group.can_bus.empty()) out << ", CAN bus " << group.can_bus;
     out << "\n";
     for (const auto& joint_name : group.joints) {
@@ -116,18 +138,29 @@ void print_summary(const RigConfig& rig, std::ostream& out) {
   }
 
   if (!rig.can_buses.empty()) {
-    out << "\nCAN buses\n";
+    out << "\nCAN buses (worst-case load of the socketcan groups; the limit is "
+        << plain(config::kMaxCanBusLoad * 100.0) << "%)\n";
     for (const auto& bus : rig.can_buses) {
       out << "  " << bus.name << ": interface " << bus.interface << ", "
-          << plain(bus.bitrate_bit_s / 1000.0) << " kbit/s";
-      if (bus.fd) out << ", FD data " << plain(bus.data_bitrate_bit_s / 1000.0) << " kbit/s";
-      const double load = config::joint_loop_can_load(rig, bus);
-      if (load > 0) {
-        out << ", joint loop worst-case load " << fixed(load * 100.0, 1) << "%";
-      } else {
-        out << ", no socketcan joints";
+          << plain(static_cast<double>(bus.bitrate_bit_s) / 1000.0) << " kbit/s";
+      if (bus.fd) {
+        out << ", FD data " << plain(static_cast<double>(bus.data_bitrate_bit_s) / 1000.0)
+            << " kbit/s";
       }
-      out << "\n";
+      const config::CanBusLoad load = config::can_bus_load(rig, bus);
+      if (load.groups.empty()) {
+        out << ", no socketcan groups\n";
+      } else {
+        out << ", load " << fixed(load.load * 100.0, 1) << "% (" << fixed(load.bit_s, 0)
+            << " bit/s)\n";
+        for (const auto& group : load.groups) {
+          out << "    " << group.group << ": "
+              << count(static_cast<std::size_t>(group.drives), "drive") << " at "
+              << plain(group.rate_hz) << " Hz, " << group.bits_per_cycle
+              << " bits per cycle + heartbeats: " << fixed(group.bit_s, 0) << " bit/s\n";
+        }
+      }
+      print_interface_check(bus, out);
     }
   }
   out << "\nsim physics " << plain(rig.sim.physics_rate_hz) << " Hz; lock memory "

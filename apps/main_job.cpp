@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "cambio/config/hardware_description.hpp"
+#include "cambio/control/joint_loop_plan.hpp"
 #include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
@@ -95,8 +96,35 @@ void MainJob::build_loops() {
     pose.commands[static_cast<std::size_t>(pose.count++)] = {
         hal::CommandMode::kPosition, hardware_.find_joint(joint_name)->initial_position_rad};
   }
-  joint_loop_ = std::make_unique<control::JointLoop>(driven_groups_, targets_, states_,
-                                                     joint_loop_params(rig));
+  // One joint loop per group rate; each takes its joints' targets from the rig-wide frame.
+  const runtime::LoopSchedule joint_schedule = loop_schedule(rig, "joint");
+  const auto plans = control::plan_joint_loops(hardware_.groups, joint_schedule.rate_hz);
+  std::vector<int> first_joint_of_group;
+  for (int first = 0; const auto& group : hardware_.groups) {
+    first_joint_of_group.push_back(first);
+    first += static_cast<int>(group.joints.size());
+  }
+  for (const auto& plan : plans) {
+    control::JointLoopParams params = joint_loop_params(rig);
+    params.name = plan.name;
+    params.target_count = static_cast<int>(joint_order_.size());
+    if (plans.size() > 1) params.rig_hold = &rig_hold_;
+    std::vector<hal::JointGroup*> loop_groups;
+    for (const std::size_t g : plan.groups) {
+      loop_groups.push_back(driven_groups_[g]);
+      for (std::size_t j = 0; j < hardware_.groups[g].joints.size(); ++j) {
+        params.target_indices.push_back(first_joint_of_group[g] + static_cast<int>(j));
+      }
+    }
+    JointLoopSlot slot;
+    slot.states = std::make_unique<hal::SeqlockChannel<control::JointStateFrame>>();
+    slot.loop = std::make_unique<control::JointLoop>(std::move(loop_groups), targets_, *slot.states,
+                                                     std::move(params));
+    runtime::LoopSchedule schedule = joint_schedule;
+    schedule.rate_hz = plan.rate_hz;
+    executor_->add_loop({slot.loop.get(), schedule});
+    joint_loops_.push_back(std::move(slot));
+  }
 
   std::vector<hal::Camera*> cameras;
   for (const auto& camera : cameras_) cameras.push_back(camera.get());
@@ -134,7 +162,6 @@ void MainJob::build_loops() {
     control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
   }
 
-  executor_->add_loop({joint_loop_.get(), loop_schedule(rig, "joint")});
   executor_->add_loop({control_loop_.get(), loop_schedule(rig, "control")});
   executor_->add_loop({camera_loop_.get(), loop_schedule(rig, "camera")});
   if (perception_loop_) {
@@ -175,10 +202,12 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   result.stopped_by_signal = stop.load();
   result.camera_frames = camera_loop_->frames_grabbed();
   result.stereo_pairs = camera_loop_->pairs_published();
-  result.watchdog_cycles = joint_loop_->stale_cycles();
-  result.fault_hold_cycles = joint_loop_->fault_hold_cycles();
-  control::JointStateFrame states;
-  if (states_.read(states)) result.fault_latched_at_end = states.fault_latched;
+  for (const auto& joint_loop : joint_loops_) {
+    result.watchdog_cycles += joint_loop.loop->stale_cycles();
+    result.fault_hold_cycles += joint_loop.loop->fault_hold_cycles();
+    control::JointStateFrame states;
+    if (joint_loop.states->read(states)) result.fault_latched_at_end |= states.fault_latched;
+  }
   if (perception_loop_) {
     result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
     perception::SsmSummary summary;

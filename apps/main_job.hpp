@@ -10,6 +10,7 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/control/joint_loop.hpp"
+#include "cambio/control/rig_hold.hpp"
 #include "cambio/control/vergence_loop.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/hardware_info.hpp"
@@ -28,8 +29,9 @@ struct MainJobResult {
   std::uint64_t camera_frames = 0;
   std::uint64_t stereo_pairs = 0;
   std::uint64_t mismatched_stereo_pairs = 0;  ///< Refused by the SSM: eyes' stamps too far apart.
-  std::uint64_t watchdog_cycles = 0;          ///< Joint loop held: targets stale.
-  std::uint64_t fault_hold_cycles = 0;        ///< Joint loop held: fault latched or feedback stale.
+  /// Summed over the joint loops (one per group rate):
+  std::uint64_t watchdog_cycles = 0;    ///< Joint loop held: targets stale.
+  std::uint64_t fault_hold_cycles = 0;  ///< Joint loop held: fault latched or feedback stale.
   bool fault_latched_at_end = false;
   bool stopped_by_signal = false;
   double simulated_s = 0.0;
@@ -46,8 +48,10 @@ struct MainJobResult {
 ///     see what the drives did;
 ///  3. Backend::configure() of every backend;
 ///  4. the loops, wired through latest-value channels:
-///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop
-///     plus the backends' own loops (the sim's physics).
+///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop(s)
+///     plus the backends' own loops (the sim's physics). Groups at the rig-wide joint rate share
+///     the loop "joint"; groups with a rate_hz of their own run in a loop per rate
+///     (control::plan_joint_loops), all reading the rig-wide targets and holding together.
 /// run() activates the backends, runs the executor (loops: configure, activate, update...,
 /// deactivate), and deactivates the backends whatever happens (a signal included).
 class MainJob {
@@ -84,9 +88,15 @@ class MainJob {
   std::vector<std::unique_ptr<hal::Camera>> cameras_;
   std::vector<std::string> joint_order_;  // Rig order: the groups' joint lists concatenated.
 
-  hal::SeqlockChannel<control::JointTargetFrame> targets_;
-  hal::SeqlockChannel<control::JointStateFrame> states_;
-  std::unique_ptr<control::JointLoop> joint_loop_;
+  /// A joint loop and the states it publishes (its own joints, in its groups' order).
+  struct JointLoopSlot {
+    std::unique_ptr<hal::SeqlockChannel<control::JointStateFrame>> states;
+    std::unique_ptr<control::JointLoop> loop;
+  };
+
+  hal::SeqlockChannel<control::JointTargetFrame> targets_;  // Rig order, every joint.
+  control::RigHold rig_hold_;                               // Outlives the joint loops.
+  std::vector<JointLoopSlot> joint_loops_;
   std::unique_ptr<hal::Loop> control_loop_;
   control::VergenceLoop* vergence_loop_ = nullptr;  // control_loop_ when the task is vergence.
   std::unique_ptr<perception::CameraLoop> camera_loop_;

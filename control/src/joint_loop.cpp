@@ -16,7 +16,13 @@ constexpr std::uint32_t bit_of(hal::DriveRequest request) {
 JointLoop::JointLoop(std::vector<hal::JointGroup*> groups,
                      hal::SeqlockChannel<JointTargetFrame>& targets,
                      hal::SeqlockChannel<JointStateFrame>& states, JointLoopParams params)
-    : groups_(std::move(groups)), targets_(targets), states_(states), params_(params) {}
+    : name_(params.name),
+      groups_(std::move(groups)),
+      targets_(targets),
+      states_(states),
+      params_(std::move(params)) {
+  if (params_.rig_hold != nullptr) rig_hold_slot_ = params_.rig_hold->add_loop();
+}
 
 void JointLoop::configure() {
   joint_count_ = 0;
@@ -41,6 +47,22 @@ void JointLoop::configure() {
   if (!(params_.feedback_timeout_s > 0.0)) {
     throw std::invalid_argument("joint loop: feedback timeout must be > 0 s");
   }
+  if (params_.target_indices.empty()) {
+    for (int j = 0; j < joint_count_; ++j) params_.target_indices.push_back(j);
+    params_.target_count = joint_count_;
+  }
+  if (static_cast<int>(params_.target_indices.size()) != joint_count_) {
+    throw std::invalid_argument("joint loop '" + name_ +
+                                "': " + std::to_string(params_.target_indices.size()) +
+                                " target indices for " + std::to_string(joint_count_) + " joints");
+  }
+  for (const int index : params_.target_indices) {
+    if (index < 0 || index >= params_.target_count || params_.target_count > kMaxJoints) {
+      throw std::invalid_argument("joint loop '" + name_ + "': target index " +
+                                  std::to_string(index) + " outside the target frame of " +
+                                  std::to_string(params_.target_count) + " joints");
+    }
+  }
   const auto n = static_cast<std::size_t>(joint_count_);
   state_scratch_.assign(n, hal::JointState{});
   command_scratch_.assign(n, hal::JointCommand{});
@@ -64,6 +86,7 @@ void JointLoop::activate() {
     offset += n;
   }
   pending_requests_.store(0);
+  if (params_.rig_hold != nullptr) params_.rig_hold->set(rig_hold_slot_, false);
   reset_requested_ = false;
   enable_after_reset_ = false;
   if (params_.enable_on_activate) forward(hal::DriveRequest::kEnable);
@@ -152,7 +175,12 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
     fault_latched = fault_latched || latched_bits_[j] != 0;
     feedback_stale = feedback_stale || (state_scratch_[j].status_bits & hal::kJointStale) != 0;
   }
-  const bool holding = fault_latched || feedback_stale;
+  // Another loop of the rig holding holds this one too (rig_hold.hpp).
+  bool holding = fault_latched || feedback_stale;
+  if (params_.rig_hold != nullptr) {
+    params_.rig_hold->set(rig_hold_slot_, holding);
+    holding = holding || params_.rig_hold->others_holding(rig_hold_slot_);
+  }
   if (fault_latched) result = hal::worst(result, hal::Status::kFault);
   if (feedback_stale) {
     result = hal::worst(result, hal::Status::kStale);
@@ -167,7 +195,8 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
 
   // 3. The newest targets (a torn read keeps the last clean copy); hold if missing or stale.
   (void)targets_.read(targets_frame_);
-  const bool fresh = !holding && targets_.version() > 0 && targets_frame_.count == joint_count_ &&
+  const bool fresh = !holding && targets_.version() > 0 &&
+                     targets_frame_.count == params_.target_count &&
                      static_cast<double>(tick.now_ns - targets_frame_.stamp_ns) * 1e-9 <=
                          params_.command_timeout_s;
   if (!fresh && !holding) stale_cycles_.fetch_add(1, std::memory_order_relaxed);
@@ -187,7 +216,7 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
     } else if (!fresh) {
       command = {hal::CommandMode::kPosition, last_position_target_[j], 0.0, 0.0};
     } else {
-      command = targets_frame_.commands[j];
+      command = targets_frame_.commands[static_cast<std::size_t>(params_.target_indices[j])];
     }
     // A non-finite target becomes "hold"; positions and velocities are clamped to the limits.
     (void)hal::clamp_command(command, limits);

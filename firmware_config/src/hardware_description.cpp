@@ -22,8 +22,11 @@ hal::JointInfo joint_info(const JointConfig& joint) {
   info.limits = limits_of(joint);
   info.initial_position_rad = joint.initial_position_rad;
   if (joint.can) {
-    info.drive = hal::JointDriveInfo{joint.can->node_id, joint.can->gear_ratio,
-                                     joint.can->encoder_counts_per_rev};
+    info.drive = hal::JointDriveInfo{
+        joint.can->node_id, joint.can->gear_ratio, joint.can->encoder_counts_per_rev,
+        joint.can->following_error_window_rad,
+        joint.servo.command == ServoCommandMode::kVelocity ? hal::CommandMode::kVelocity
+                                                           : hal::CommandMode::kPosition};
   }
   return info;
 }
@@ -65,6 +68,14 @@ hal::HardwareInfo hardware_description(const RigConfig& rig) {
     info.backend = group.backend;
     info.joints = group.joints;
     info.can_bus = group.can_bus;
+    info.rate_hz = group.rate_hz;
+    info.can.heartbeat_period_s = group.can.heartbeat_period_s;
+    info.can.stale_after_missed_syncs = group.can.stale_after_missed_syncs;
+    info.can.sdo_timeout_s = group.can.sdo_timeout_s;
+    info.can.velocity_feedforward = group.can.velocity_feedforward;
+    info.can.effort_feedforward = group.can.effort_feedforward;
+    info.can.velocity_feedback = group.can.velocity_feedback;
+    info.can.effort_feedback = group.can.effort_feedback;
     for (const auto& joint_name : group.joints) {
       const JointConfig* joint = rig.find_joint(joint_name);
       if (joint == nullptr) {

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <set>
 
+#include "cambio/canopen/pdo_layout.hpp"
 #include "format.hpp"
 
 namespace cambio::config {
@@ -153,11 +154,62 @@ JointConfig read_joint(const std::string& name, MapReader& r,
     can.gear_ratio = can_reader->number_or("gear_ratio", 1.0, Range::positive());
     can.encoder_counts_per_rev = can_reader->integer(
         "encoder_counts_per_rev", Range{1.0, std::numeric_limits<double>::infinity()});
+    can.following_error_window_rad =
+        can_reader->angle_rad_or("following_error_window", 0.0, Range::non_negative());
     can_reader->finish();
     joint.can = can;
   }
   r.finish();
   return joint;
+}
+
+Range rate_range() {
+  return Range::closed(kMinRate_hz, kMaxRate_hz)
+      .because("a run's cycles are its duration times its rates");
+}
+
+/// Which of `allowed` a list names (`feedforward: [velocity, effort]`), each at most once.
+std::set<std::string> read_flag_list(MapReader& r, std::string_view key,
+                                     const std::vector<std::string>& allowed) {
+  std::set<std::string> flags;
+  const auto items = r.strings_or(key, {});
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (std::find(allowed.begin(), allowed.end(), items[i]) == allowed.end()) {
+      r.error(key, i, unknown_name_message("a mapped object", items[i], allowed));
+    } else if (!flags.insert(items[i]).second) {
+      r.error(key, i,
+              "expected each of " + join(allowed) + " at most once, found " + in_quotes(items[i]) +
+                  " again");
+    }
+  }
+  return flags;
+}
+
+JointGroupCanConfig read_group_can(MapReader& r) {
+  JointGroupCanConfig can;
+  // 0x1017 holds the heartbeat period as a 16-bit count of ms; 0 would switch it off, and with
+  // it the master's detection of a lost drive.
+  can.heartbeat_period_s =
+      static_cast<double>(r.integer_or(
+          "heartbeat_period_ms", std::llround(can.heartbeat_period_s * 1000),
+          Range::closed(1, 65535).because("0x1017 is a 16-bit count of ms; 0 would switch the "
+                                          "heartbeat, and loss detection, off"))) /
+      1000.0;
+  can.stale_after_missed_syncs = static_cast<int>(r.integer_or(
+      "stale_after_missed_syncs", can.stale_after_missed_syncs, Range::closed(1, 1000)));
+  can.sdo_timeout_s =
+      static_cast<double>(r.integer_or("sdo_timeout_ms", std::llround(can.sdo_timeout_s * 1000),
+                                       Range::closed(1, 60'000))) /
+      1000.0;
+  const std::vector<std::string> objects{"velocity", "effort"};
+  const auto feedforward = read_flag_list(r, "feedforward", objects);
+  can.velocity_feedforward = feedforward.contains("velocity");
+  can.effort_feedforward = feedforward.contains("effort");
+  const auto feedback = read_flag_list(r, "feedback", objects);
+  can.velocity_feedback = feedback.contains("velocity");
+  can.effort_feedback = feedback.contains("effort");
+  r.finish();
+  return can;
 }
 
 JointGroupConfig read_group(const std::string& name, MapReader& r) {
@@ -169,6 +221,9 @@ JointGroupConfig read_group(const std::string& name, MapReader& r) {
     r.error("joints", "expected a list of at least one joint name, found an empty list");
   }
   group.can_bus = r.text_or("can_bus", "");
+  group.own_rate = r.has("rate_hz");
+  if (group.own_rate) group.rate_hz = r.number("rate_hz", rate_range());
+  if (auto can = r.optional_map("can")) group.can = read_group_can(*can);
   r.finish();
   return group;
 }
@@ -247,6 +302,17 @@ CanBusConfig read_can_bus(const std::string& name, MapReader& r) {
   CanBusConfig bus;
   bus.name = name;
   bus.interface = r.text("interface");
+  // The kernel's rule for interface names (dev_valid_name): check-config looks the name up
+  // under /sys/class/net, so it must not be a path.
+  const bool valid_interface = bus.interface.size() <= 15 && bus.interface != "." &&
+                               bus.interface != ".." &&
+                               bus.interface.find_first_of("/: \t\n") == std::string::npos;
+  if (!bus.interface.empty() && !valid_interface) {
+    r.error("interface",
+            "expected a network interface name (at most 15 characters, no '/', ':' "
+            "or spaces), found " +
+                in_quotes(bus.interface));
+  }
   // Classic CAN's nominal (arbitration) bitrate tops out at 1 Mbit/s.
   bus.bitrate_bit_s = r.integer_or("bitrate_bit_s", 1'000'000, Range::closed(1'000, 1'000'000));
   bus.fd = r.boolean_or("fd", false);
@@ -273,10 +339,9 @@ LoopConfig read_loop(const std::string& name, MapReader& r) {
                                      [&](const LoopConfig& loop) { return loop.name == name; });
   LoopConfig loop;
   loop.name = name;
-  const Range rate_range = Range::closed(kMinRate_hz, kMaxRate_hz)
-                               .because("a run's cycles are its duration times its rates");
-  loop.rate_hz = standard != defaults.end() ? r.number_or("rate_hz", standard->rate_hz, rate_range)
-                                            : r.number("rate_hz", rate_range);
+  loop.rate_hz = standard != defaults.end()
+                     ? r.number_or("rate_hz", standard->rate_hz, rate_range())
+                     : r.number("rate_hz", rate_range());
   loop.priority = static_cast<int>(r.integer_or("priority", 0, Range::closed(0, 99)));
   loop.cpu = static_cast<int>(r.integer_or(
       "cpu", -1, Range::closed(-1, kMaxCpu).because("-1: any; the kernel's CPU sets end there")));
@@ -430,21 +495,46 @@ void check_can(const RigConfig& rig, std::vector<JointEntry>& joints,
   }
   for (std::size_t b = 0; b < rig.can_buses.size(); ++b) {
     const auto& bus = rig.can_buses[b];
-    const double load = joint_loop_can_load(rig, bus);
-    if (load > kMaxCanBusLoad) {
-      const LoopConfig* joint_loop = rig.find_loop("joint");
-      const double joint_rate_hz = joint_loop ? joint_loop->rate_hz : 0.0;
-      const double max_rate_hz = joint_rate_hz * kMaxCanBusLoad / load;
-      bus_readers[b].error(
-          "bitrate_bit_s",
-          "expected a bitrate that carries the joint loop's CANopen traffic within " +
-              format_number(kMaxCanBusLoad * 100) + "% (" + format_number(joint_rate_hz) +
-              " Hz: " + format_number(std::round(load * bus.bitrate_bit_s)) +
-              " bit/s worst case), found " + std::to_string(bus.bitrate_bit_s) + " bit/s (" +
-              format_number(std::round(load * 1000) / 10) +
-              "% load); lower loops.joint.rate_hz to at most " +
-              format_number(std::floor(max_rate_hz)) + " Hz or split the joints over more buses");
+    const CanBusLoad load = can_bus_load(rig, bus);
+    if (load.load <= kMaxCanBusLoad) continue;
+    // The advice names the group that takes the most of the bus: the rate it may run at with the
+    // others unchanged, or that it needs a bus of its own.
+    const auto largest = std::max_element(
+        load.groups.begin(), load.groups.end(),
+        [](const CanGroupLoad& x, const CanGroupLoad& y) { return x.bit_s < y.bit_s; });
+    std::string traffic;
+    for (const auto& group : load.groups) {
+      traffic += (traffic.empty() ? "" : ", ") + group.group + " " + std::to_string(group.drives) +
+                 (group.drives == 1 ? " drive at " : " drives at ") + format_number(group.rate_hz) +
+                 " Hz";
     }
+    const double budget_bit_s = kMaxCanBusLoad * static_cast<double>(bus.bitrate_bit_s);
+    const double max_rate_hz =
+        (budget_bit_s - (load.bit_s - largest->bit_s) - largest->heartbeat_bit_s) /
+        largest->bits_per_cycle;
+    const double needed_bitrate_bit_s = std::ceil(load.bit_s / kMaxCanBusLoad);
+    const JointGroupConfig* group = rig.find_group(largest->group);
+    std::string advice;
+    if (max_rate_hz >= kMinRate_hz) {
+      advice =
+          group != nullptr && group->own_rate
+              ? "lower groups." + largest->group + ".rate_hz to at most "
+              : "set groups." + largest->group + ".rate_hz (now loops.joint.rate_hz) to at most ";
+      advice += format_number(std::floor(max_rate_hz)) + " Hz";
+    } else {
+      advice = "give group " + largest->group + " a bus of its own";
+    }
+    if (!bus.fd && needed_bitrate_bit_s <= 1'000'000) {
+      advice += ", raise bitrate_bit_s to at least " + format_number(needed_bitrate_bit_s);
+    }
+    advice += " or split the groups over more buses";
+    bus_readers[b].error(
+        "bitrate_bit_s",
+        "expected a bitrate that carries the joint loops' CANopen traffic within " +
+            format_number(kMaxCanBusLoad * 100) + "% (" + traffic + ": " +
+            format_number(std::round(load.bit_s)) + " bit/s worst case), found " +
+            std::to_string(bus.bitrate_bit_s) + " bit/s (" +
+            format_number(std::round(load.load * 1000) / 10) + "% load); " + advice);
   }
 }
 
@@ -507,18 +597,46 @@ int can_frame_worst_case_bits(int data_bytes) {
   return 47 + 8 * data_bytes + (stuffed_bits - 1) / 4;
 }
 
-double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus) {
-  const LoopConfig* joint_loop = rig.find_loop("joint");
-  if (joint_loop == nullptr || bus.bitrate_bit_s <= 0) return 0.0;
-  int joints_on_bus = 0;
+CanBusLoad can_bus_load(const RigConfig& rig, const CanBusConfig& bus) {
+  CanBusLoad result;
+  if (bus.bitrate_bit_s <= 0) return result;
   for (const auto& group : rig.groups) {
     if (group.backend != "socketcan" || group.can_bus != bus.name) continue;
-    joints_on_bus += static_cast<int>(group.joints.size());
+    hal::CanGroupSettings settings;
+    settings.velocity_feedforward = group.can.velocity_feedforward;
+    settings.effort_feedforward = group.can.effort_feedforward;
+    settings.velocity_feedback = group.can.velocity_feedback;
+    settings.effort_feedback = group.can.effort_feedback;
+    CanGroupLoad load;
+    load.group = group.name;
+    load.rate_hz = group.rate_hz;
+    for (const auto& joint_name : group.joints) {
+      const JointConfig* joint = rig.find_joint(joint_name);
+      if (joint == nullptr) continue;
+      const canopen::PdoLayout layout = canopen::pdo_layout(
+          joint->servo.command == ServoCommandMode::kVelocity ? hal::CommandMode::kVelocity
+                                                              : hal::CommandMode::kPosition,
+          settings);
+      for (const auto* pdos : {&layout.rpdos, &layout.tpdos}) {
+        for (const auto& pdo : *pdos) {
+          if (!pdo.empty()) load.bits_per_cycle += can_frame_worst_case_bits(pdo.bytes());
+        }
+      }
+      ++load.drives;
+    }
+    load.bits_per_cycle += can_frame_worst_case_bits(0);  // The SYNC.
+    load.heartbeat_bit_s =
+        load.drives * can_frame_worst_case_bits(1) / group.can.heartbeat_period_s;
+    load.bit_s = load.bits_per_cycle * load.rate_hz + load.heartbeat_bit_s;
+    result.bit_s += load.bit_s;
+    result.groups.push_back(std::move(load));
   }
-  if (joints_on_bus == 0) return 0.0;
-  const double bits_per_cycle =
-      joints_on_bus * 2 * can_frame_worst_case_bits(8) + can_frame_worst_case_bits(0);
-  return bits_per_cycle * joint_loop->rate_hz / static_cast<double>(bus.bitrate_bit_s);
+  result.load = result.bit_s / static_cast<double>(bus.bitrate_bit_s);
+  return result;
+}
+
+double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus) {
+  return can_bus_load(rig, bus).load;
 }
 
 RigConfig read_rig(MapReader root, const std::string& file) {
@@ -602,6 +720,9 @@ RigConfig read_rig(MapReader root, const std::string& file) {
     rig.loops.push_back(read_loop(name, reader));
   for (const auto& loop : default_loops()) {
     if (rig.find_loop(loop.name) == nullptr) rig.loops.push_back(loop);
+  }
+  for (auto& group : rig.groups) {
+    if (!group.own_rate) group.rate_hz = rig.find_loop("joint")->rate_hz;
   }
 
   if (auto sim = root.optional_map("sim")) {

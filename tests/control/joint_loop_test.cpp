@@ -8,7 +8,9 @@
 #include <optional>
 #include <string>
 
+#include "cambio/control/joint_loop_plan.hpp"
 #include "cambio/runtime/allocation_counter.hpp"
+#include "cambio/runtime/lockstep_executor.hpp"
 
 namespace cambio::control {
 namespace {
@@ -33,6 +35,7 @@ class FakeJointGroup final : public hal::JointGroup {
   const hal::JointGroupInfo& info() const override { return info_; }
   hal::Status read(std::span<hal::JointState> out, std::int64_t& stamp_ns) override {
     calls.push_back('r');
+    if (clock != nullptr) now_ns = clock->now_ns();
     hal::Status status = read_status;
     for (std::size_t j = 0; j < out.size(); ++j) {
       if (pending[j]) {
@@ -88,6 +91,7 @@ class FakeJointGroup final : public hal::JointGroup {
   }
 
   std::int64_t now_ns = 0;
+  const hal::Clock* clock = nullptr;  ///< When set, read() stamps with its time.
   hal::Status read_status = hal::Status::kOk;
   std::array<double, 2> position{0.0, 0.0};
   std::array<hal::DriveState, 2> drive{};
@@ -104,8 +108,14 @@ class FakeJointGroup final : public hal::JointGroup {
   hal::JointGroupInfo info_;
 };
 
-constexpr JointLoopParams kParams{/*command_timeout_s=*/0.05, /*feedback_timeout_s=*/0.005,
-                                  /*enable_on_activate=*/true};
+JointLoopParams test_params() {
+  JointLoopParams params;
+  params.command_timeout_s = 0.05;
+  params.feedback_timeout_s = 0.005;
+  params.enable_on_activate = true;
+  return params;
+}
+const JointLoopParams kParams = test_params();
 
 struct Fixture {
   explicit Fixture(hal::DriveState initial = hal::DriveState::kOperationEnabled)
@@ -353,6 +363,156 @@ TEST(JointLoop, EachCycleReadsThenWritesThenSyncs) {
   f.group.calls.clear();
   f.drive(0.1, 0.1, 0, 2);
   EXPECT_EQ(f.group.calls, "rwsrwsrws");
+}
+
+}  // namespace
+}  // namespace cambio::control
+
+namespace cambio::control {
+namespace {
+
+hal::JointGroupInfo group_at(const std::string& name, double rate_hz) {
+  hal::JointGroupInfo info;
+  info.name = name;
+  info.rate_hz = rate_hz;
+  return info;
+}
+
+TEST(JointLoopPlan, GroupsAtTheRigRateShareJointOthersALoopPerRate) {
+  const auto plans = plan_joint_loops(
+      {group_at("head", 0.0), group_at("left_arm", 250.0), group_at("right_arm", 250.0),
+       group_at("gripper", 400.0), group_at("wrist", 100.0)},
+      400.0);
+  ASSERT_EQ(plans.size(), 3u);
+  EXPECT_EQ(plans[0].name, "joint");
+  EXPECT_EQ(plans[0].rate_hz, 400.0);
+  EXPECT_EQ(plans[0].groups, (std::vector<std::size_t>{0, 3}));
+  EXPECT_EQ(plans[1].name, "joint.left_arm+right_arm");
+  EXPECT_EQ(plans[1].rate_hz, 250.0);
+  EXPECT_EQ(plans[1].groups, (std::vector<std::size_t>{1, 2}));
+  EXPECT_EQ(plans[2].name, "joint.wrist");
+  EXPECT_EQ(plans[2].groups, (std::vector<std::size_t>{4}));
+}
+
+TEST(JointLoopPlan, NoGroupRateKeepsTheOneJointLoop) {
+  const auto plans = plan_joint_loops({group_at("head", 0.0), group_at("arm", 0.0)}, 1000.0);
+  ASSERT_EQ(plans.size(), 1u);
+  EXPECT_EQ(plans[0].name, "joint");
+  EXPECT_EQ(plans[0].groups, (std::vector<std::size_t>{0, 1}));
+  // Every group at its own rate: no empty "joint" loop.
+  const auto own = plan_joint_loops({group_at("head", 500.0)}, 1000.0);
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_EQ(own[0].name, "joint.head");
+  EXPECT_THROW(plan_joint_loops({group_at("head", -1.0)}, 1000.0), std::invalid_argument);
+}
+
+// Stands for the control loop: fresh rig-wide targets every cycle (head pan, tilt, arm pan, tilt).
+class TargetLoop final : public hal::Loop {
+ public:
+  TargetLoop(hal::SeqlockChannel<JointTargetFrame>& targets, const hal::Clock& clock)
+      : targets_(targets), clock_(clock) {}
+  const std::string& name() const override { return name_; }
+  hal::Status update(const hal::LoopTick&) noexcept override {
+    JointTargetFrame frame;
+    frame.stamp_ns = clock_.now_ns();
+    frame.count = 4;
+    for (std::size_t j = 0; j < 4; ++j) frame.commands[j] = {hal::CommandMode::kPosition, value[j]};
+    targets_.write(frame);
+    return hal::Status::kOk;
+  }
+  std::array<double, 4> value{0.1, 0.2, -0.3, -0.4};
+
+ private:
+  std::string name_ = "control";
+  hal::SeqlockChannel<JointTargetFrame>& targets_;
+  const hal::Clock& clock_;
+};
+
+// The main job's wiring of two groups at two rates (apps/main_job.cpp): one loop per rate, each
+// taking its joints from the rig-wide target frame, sharing a RigHold.
+struct TwoRateRig {
+  TwoRateRig() {
+    head.clock = arm.clock = &executor.clock();
+    head.calls.reserve(1 << 14);
+    arm.calls.reserve(1 << 14);
+    JointLoopParams head_params = kParams;
+    head_params.name = "joint";
+    head_params.target_indices = {0, 1};
+    head_params.target_count = 4;
+    head_params.rig_hold = &hold;
+    JointLoopParams arm_params = kParams;
+    arm_params.name = "joint.arm";
+    arm_params.target_indices = {2, 3};
+    arm_params.target_count = 4;
+    arm_params.rig_hold = &hold;
+    head_loop = std::make_unique<JointLoop>(std::vector<hal::JointGroup*>{&head}, targets,
+                                            head_states, head_params);
+    arm_loop = std::make_unique<JointLoop>(std::vector<hal::JointGroup*>{&arm}, targets, arm_states,
+                                           arm_params);
+    executor.add_loop({head_loop.get(), {400.0}});
+    executor.add_loop({arm_loop.get(), {250.0}});
+    executor.add_loop({&control, {200.0}});
+    executor.configure();
+  }
+  static long count(const std::string& calls, char c) {
+    return static_cast<long>(std::count(calls.begin(), calls.end(), c));
+  }
+
+  runtime::LockstepExecutor executor;
+  FakeJointGroup head{"head"};
+  FakeJointGroup arm{"arm"};
+  RigHold hold;
+  hal::SeqlockChannel<JointTargetFrame> targets;
+  hal::SeqlockChannel<JointStateFrame> head_states;
+  hal::SeqlockChannel<JointStateFrame> arm_states;
+  std::unique_ptr<JointLoop> head_loop;
+  std::unique_ptr<JointLoop> arm_loop;
+  TargetLoop control{targets, executor.clock()};
+};
+
+TEST(JointLoopsAtTwoRates, EachGroupIsUpdatedAtItsOwnRateWithItsOwnTargets) {
+  TwoRateRig rig;
+  rig.executor.run_until_ns(500'000'000);  // 0.5 s: deadlines at k / rate for k = 0, 1, ...
+  // Activation reads once; then one read, write and sync per cycle of each group's own loop.
+  EXPECT_EQ(TwoRateRig::count(rig.head.calls, 'w'), 200);
+  EXPECT_EQ(TwoRateRig::count(rig.head.calls, 's'), 200);
+  EXPECT_EQ(TwoRateRig::count(rig.arm.calls, 'w'), 125);
+  EXPECT_EQ(TwoRateRig::count(rig.arm.calls, 's'), 125);
+  // Each group reached its own slice of the rig-wide targets (ramped at 2 rad/s: 0.2 s at most).
+  EXPECT_DOUBLE_EQ(rig.head.position[0], 0.1);
+  EXPECT_DOUBLE_EQ(rig.head.position[1], 0.2);
+  EXPECT_DOUBLE_EQ(rig.arm.position[0], -0.3);
+  EXPECT_DOUBLE_EQ(rig.arm.position[1], -0.4);
+  // The ramp runs at each loop's own period: one arm cycle moves at most 2 rad/s x 4 ms.
+  JointStateFrame arm_frame;
+  ASSERT_TRUE(rig.arm_states.read(arm_frame));
+  EXPECT_EQ(arm_frame.count, 2);
+  EXPECT_FALSE(arm_frame.holding);
+  rig.executor.deactivate();
+}
+
+TEST(JointLoopsAtTwoRates, AFaultInOneLoopHoldsTheOther) {
+  TwoRateRig rig;
+  rig.executor.run_until_ns(300'000'000);
+  rig.arm.fault(0, 0x8611);
+  rig.control.value = {-0.5, -0.5, -0.3, -0.4};  // The head is told to move.
+  rig.executor.run_until_ns(400'000'000);
+  JointStateFrame head_frame;
+  ASSERT_TRUE(rig.head_states.read(head_frame));
+  EXPECT_TRUE(head_frame.holding);
+  EXPECT_FALSE(head_frame.fault_latched);  // The fault is the arm's.
+  // Held from the arm loop's first faulted cycle (within 4 ms): the head moved at most one
+  // 400 Hz step (2 rad/s x 2.5 ms) towards -0.5 before the hold, then stayed.
+  EXPECT_GE(rig.head.position[0], 0.1 - 2 * 0.0025 - 1e-12);
+  EXPECT_GT(rig.head_loop->fault_hold_cycles(), 30u);
+  // The arm's reset clears its latch; the head then follows its targets again.
+  rig.arm_loop->request(hal::DriveRequest::kFaultReset);
+  rig.arm_loop->request(hal::DriveRequest::kEnable);
+  rig.executor.run_until_ns(1'200'000'000);
+  ASSERT_TRUE(rig.head_states.read(head_frame));
+  EXPECT_FALSE(head_frame.holding);
+  EXPECT_DOUBLE_EQ(rig.head.position[0], -0.5);
+  rig.executor.deactivate();
 }
 
 }  // namespace

@@ -56,6 +56,45 @@ TEST(CheckConfigCli, OverrideIsApplied) {
   EXPECT_NE(run.output.find("250 Hz"), std::string::npos) << run.output;
 }
 
+TEST(CheckConfigCli, PrintsEachBussLoadWithItsGroupsAndRates) {
+  const CommandRun run =
+      run_cambio(shipped("cambio.yaml") +
+                 " --set groups.head.backend=socketcan --set groups.left_arm.backend=socketcan "
+                 "--set groups.right_arm.backend=socketcan --set can_buses.can2.interface=nocan7");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  // rigs/cambio.yaml's comment works these out: 1205 bits per cycle for five drives.
+  for (const std::string text :
+       {"  can0: interface can0, 1000 kbit/s, load 48.5% (485250 bit/s)\n"
+        "    head: 5 drives at 400 Hz, 1205 bits per cycle + heartbeats: 485250 bit/s\n",
+        "  can2: interface nocan7, 1000 kbit/s, load 30.4% (304500 bit/s)\n"
+        "    right_arm: 5 drives at 250 Hz, 1205 bits per cycle + heartbeats: 304500 bit/s\n"
+        "    interface nocan7 not present here: bit rate not checked\n",
+        "left_arm: backend socketcan, joint loop 250 Hz, CAN bus can1",
+        "head: backend socketcan, joint loop 400 Hz (loops.joint), CAN bus can0"}) {
+    EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
+  }
+  const CommandRun sim = run_cambio(shipped("pan_tilt.yaml"));
+  EXPECT_NE(sim.output.find("  can0: interface can0, 1000 kbit/s, no socketcan groups\n"),
+            std::string::npos)
+      << sim.output;
+}
+
+TEST(CheckConfigCli, AnOverloadedBusNamesTheGroupToSlowDown) {
+  const CommandRun run = run_cambio(shipped("pan_tilt.yaml") +
+                                    " --set groups.pan_tilt.backend=socketcan"
+                                    " --set can_buses.can0.bitrate_bit_s=500000");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("can_buses.can0.bitrate_bit_s: expected a bitrate that carries the "
+                            "joint loops' CANopen traffic within 60% (pan_tilt 2 drives at 1000 "
+                            "Hz: 516300 bit/s worst case)"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(
+      run.output.find("set groups.pan_tilt.rate_hz (now loops.joint.rate_hz) to at most 580 Hz"),
+      std::string::npos)
+      << run.output;
+}
+
 TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
   const auto path = std::filesystem::temp_directory_path() / "cambio_check_config_bad.yaml";
   {
@@ -74,7 +113,7 @@ TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
                                             "number > 0, found \"fast\"\n"),
             std::string::npos)
       << run.output;
-  EXPECT_NE(run.output.find(path.string() + ":48:1: bogus_key: unknown key"), std::string::npos)
+  EXPECT_NE(run.output.find(path.string() + ":52:1: bogus_key: unknown key"), std::string::npos)
       << run.output;
 }
 

@@ -42,6 +42,9 @@ TEST(HardwareDescription, CarriesTheShippedRigsJointsGroupsCamerasAndDrives) {
   ASSERT_NE(head, nullptr);
   EXPECT_EQ(head->backend, "sim");
   EXPECT_EQ(head->can_bus, "can0");
+  EXPECT_EQ(head->rate_hz, 400.0);  // loops.joint.rate_hz: the head sets none of its own.
+  EXPECT_EQ(hardware.find_group("left_arm")->rate_hz, 250.0);
+  EXPECT_EQ(hardware.find_group("right_arm")->can_bus, "can2");
   ASSERT_EQ(head->limits.size(), 5u);
   EXPECT_DOUBLE_EQ(head->limits[0].min_position_rad, -kPi / 2);
 
@@ -60,7 +63,7 @@ TEST(HardwareDescription, CarriesTheShippedRigsJointsGroupsCamerasAndDrives) {
   EXPECT_TRUE((R * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitY(), 1e-12));
   EXPECT_TRUE((R * Eigen::Vector3d::UnitY()).isApprox(-Eigen::Vector3d::UnitZ(), 1e-12));
   EXPECT_TRUE(camera->X_PC.translation().isApprox(Eigen::Vector3d(0.02, 0.0, 0.0)));
-  EXPECT_EQ(hardware.can_buses.size(), 2u);
+  EXPECT_EQ(hardware.can_buses.size(), 3u);
   EXPECT_EQ(hardware.touch_sensors.size(), 2u);
 }
 

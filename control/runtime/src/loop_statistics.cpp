@@ -46,18 +46,24 @@ bool passes_allocation_gate(const LoopStatistics& stats) {
 
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count) {
   std::string out;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-12s %8s %9s %9s %9s %9s %9s %8s %9s %10s %6s\n", "loop",
-                "rate_hz", "cycles", "p50_us", "p99_us", "p99.9_us", "max_us", "overruns",
+  char line[320];
+  // The name column fits the longest name ("joint.left_arm+right_arm"), at least 12 wide.
+  int name_width = 12;
+  for (std::size_t i = 0; i < count; ++i) {
+    name_width =
+        std::max(name_width, static_cast<int>(std::min<std::size_t>(stats[i].name.size(), 64)));
+  }
+  std::snprintf(line, sizeof line, "%-*s %8s %9s %9s %9s %9s %9s %8s %9s %10s %6s\n", name_width,
+                "loop", "rate_hz", "cycles", "p50_us", "p99_us", "p99.9_us", "max_us", "overruns",
                 "exec_p99", "alloc/cyc", "torn");
   out += line;
   for (std::size_t i = 0; i < count; ++i) {
     const LoopStatistics& s = stats[i];
     std::snprintf(line, sizeof line,
-                  "%-12s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f%s %5llu\n",
-                  s.name.c_str(), s.rate_hz, static_cast<unsigned long long>(s.cycles),
-                  s.wakeup_latency.percentile_us(0.50), s.wakeup_latency.percentile_us(0.99),
-                  s.wakeup_latency.percentile_us(0.999),
+                  "%-*.*s %8.1f %9llu %9.1f %9.1f %9.1f %9.1f %8llu %9.1f %10.3f%s %5llu\n",
+                  name_width, name_width, s.name.c_str(), s.rate_hz,
+                  static_cast<unsigned long long>(s.cycles), s.wakeup_latency.percentile_us(0.50),
+                  s.wakeup_latency.percentile_us(0.99), s.wakeup_latency.percentile_us(0.999),
                   static_cast<double>(s.wakeup_latency.max_ns()) / 1000.0,
                   static_cast<unsigned long long>(s.overruns), s.execution_time.percentile_us(0.99),
                   per_cycle(s.allocations, s.cycles), s.allocation_exempt ? "*" : " ",

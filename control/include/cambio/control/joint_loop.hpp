@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cambio/control/joint_frames.hpp"
+#include "cambio/control/rig_hold.hpp"
 #include "cambio/hal/joint_group.hpp"
 #include "cambio/hal/loop.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
@@ -19,6 +20,17 @@ struct JointLoopParams {
   double feedback_timeout_s = 0.02;
   /// activate() asks every drive to enable (deactivate() always quick-stops them).
   bool enable_on_activate = true;
+  /// The loop's name in statistics: "joint" for the rig-wide loop, "joint.<group>" for a loop
+  /// of groups that run at a rate of their own.
+  std::string name = "joint";
+  /// Where this loop's joints sit in the target frame, which then holds `target_count` joints
+  /// (the whole rig's, when groups run in several loops). Empty: the frame is this loop's joints
+  /// in order.
+  std::vector<int> target_indices;
+  int target_count = 0;
+  /// Shared with the rig's other joint loops, so that all hold while one does; null when this
+  /// loop drives the whole rig.
+  RigHold* rig_hold = nullptr;
 };
 
 /// The fast loop next to the hardware (1 kHz by default). Each cycle, in this order:
@@ -34,7 +46,8 @@ struct JointLoopParams {
 ///     target after it becomes enabled is exactly its measured position (enabling never jumps);
 ///  4. write() every group, then sync() every group (a CAN group sends SYNC here).
 /// The returned status is the most severe of the cycle's (hal::worst), never the last one seen.
-/// Joint order is the concatenation of the groups' joint lists.
+/// Joint order is the concatenation of the groups' joint lists. The state frame it publishes
+/// holds this loop's joints; the target frame may be the whole rig's (params.target_indices).
 class JointLoop final : public hal::Loop {
  public:
   JointLoop(std::vector<hal::JointGroup*> groups, hal::SeqlockChannel<JointTargetFrame>& targets,
@@ -71,7 +84,7 @@ class JointLoop final : public hal::Loop {
   hal::Status read_groups(std::int64_t now_ns) noexcept;
   void forward(hal::DriveRequest request) noexcept;
 
-  std::string name_ = "joint";
+  std::string name_;
   std::vector<hal::JointGroup*> groups_;
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<JointStateFrame>& states_;
@@ -85,6 +98,7 @@ class JointLoop final : public hal::Loop {
   std::vector<std::uint8_t> was_enabled_;
   JointTargetFrame targets_frame_{};  // The last clean copy of the targets.
   JointStateFrame state_frame_{};
+  int rig_hold_slot_ = 0;
   std::atomic<std::uint32_t> pending_requests_{0};  // Bit per hal::DriveRequest.
   bool reset_requested_ = false;     // Clear the latches once the drives report no fault.
   bool enable_after_reset_ = false;  // Then ask them to enable.

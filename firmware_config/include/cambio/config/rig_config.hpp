@@ -34,6 +34,8 @@ struct JointCanConfig {
   int node_id = 0;                          ///< 1..127.
   double gear_ratio = 1.0;                  ///< Motor turns per joint turn.
   std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
+  /// CiA 402 following error window (0x6065); 0 = leave the drive's own setting.
+  double following_error_window_rad = 0.0;
 };
 
 /// A revolute joint (every joint of the Câmbio robot turns, the grippers' fingers included).
@@ -57,11 +59,29 @@ struct JointConfig {
   std::optional<JointCanConfig> can;
 };
 
+/// What a CANopen group needs besides its joints' drives (groups.<g>.can); the defaults are
+/// hal::CanGroupSettings'.
+struct JointGroupCanConfig {
+  double heartbeat_period_s = 0.1;  ///< Each drive's heartbeat (0x1017), from heartbeat_period_ms.
+  int stale_after_missed_syncs = 3;
+  double sdo_timeout_s = 0.1;  ///< From sdo_timeout_ms.
+  /// Optional PDO objects (feedforward: [velocity, effort], feedback: [velocity, effort]).
+  bool velocity_feedforward = false;
+  bool effort_feedforward = false;
+  bool velocity_feedback = false;
+  bool effort_feedback = false;
+};
+
 struct JointGroupConfig {
   std::string name;
   std::string backend;              ///< "sim" or "socketcan".
   std::vector<std::string> joints;  ///< Order of the group's read()/write() spans.
   std::string can_bus;              ///< Name in RigConfig::can_buses; needed by socketcan.
+  /// The group's joint-loop rate (a CAN group's SYNC rate): its rate_hz key, else
+  /// loops.joint.rate_hz. Groups of one rate share a joint loop.
+  double rate_hz = 0.0;
+  bool own_rate = false;  ///< rate_hz came from the group's own key.
+  JointGroupCanConfig can;
 };
 
 enum class PixelFormatConfig : std::uint8_t { kGrey8, kRgb8 };

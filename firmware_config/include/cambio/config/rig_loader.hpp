@@ -56,12 +56,35 @@ std::vector<LoopConfig> default_loops();
 /// bits the 34 + 8 * data_bytes stuffed bits can need (8 data bytes: 135 bits; SYNC, 0 bytes: 55).
 int can_frame_worst_case_bits(int data_bytes);
 
-/// Worst-case share of `bus`'s bitrate the joint loop's CANopen traffic takes (1.0 = saturated):
-/// per SYNC, each joint of a socketcan group on the bus receives one RPDO and sends one TPDO of
-/// 8 data bytes, plus the SYNC frame, at the joint loop's rate. An upper bound for CAN FD buses
-/// too (FD frames at the faster data bitrate take less time). Loading refuses a load above
-/// kMaxCanBusLoad.
+/// One socketcan group's share of its bus, worst case.
+struct CanGroupLoad {
+  std::string group;
+  double rate_hz = 0.0;  ///< The group's joint-loop (SYNC) rate.
+  int drives = 0;
+  /// Per cycle: every drive's mapped PDOs (RPDO1, RPDO2 if feed-forward is mapped, TPDO1, TPDO2
+  /// if feedback is), then one SYNC.
+  int bits_per_cycle = 0;
+  double heartbeat_bit_s = 0.0;  ///< One 1-byte heartbeat frame per drive per period.
+  double bit_s = 0.0;            ///< bits_per_cycle * rate_hz + heartbeat_bit_s.
+};
+
+/// The joint loops' CANopen traffic on one bus.
+struct CanBusLoad {
+  std::vector<CanGroupLoad> groups;  ///< The socketcan groups on the bus, rig order.
+  double bit_s = 0.0;
+  double load = 0.0;  ///< bit_s / the bus's bitrate (1.0 = saturated).
+};
+
+/// Worst-case traffic of the socketcan groups on `bus`, each at its own rate, counting exactly
+/// the PDOs canopen::pdo_layout() maps for its joints' command mode and its feed-forward and
+/// feedback settings. An upper bound for CAN FD buses too (FD frames at the faster data bitrate
+/// take less time). Loading refuses a load above kMaxCanBusLoad.
+CanBusLoad can_bus_load(const RigConfig& rig, const CanBusConfig& bus);
+/// can_bus_load(rig, bus).load.
 double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus);
-inline constexpr double kMaxCanBusLoad = 0.9;
+/// The highest worst-case load a rig may plan for a bus: the rest is headroom for what the model
+/// does not count (SDO, NMT and EMCY traffic, frames retransmitted after an error) and keeps the
+/// lowest-priority PDO's latency within a SYNC period (the usual CANopen design rule).
+inline constexpr double kMaxCanBusLoad = 0.6;
 
 }  // namespace cambio::config

@@ -8,6 +8,7 @@
 #include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
+#include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
 #include "controller_params.hpp"
 
@@ -216,6 +217,14 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   if (vergence_loop_ != nullptr) {
     control::VergenceStatus status;
     if (vergence_loop_->status().read(status)) result.vergence = status;
+  }
+  if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
+    const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);
+    for (const auto& group : hardware_.groups) {
+      if (const canopen::CanJointGroup* can_group = can_backend.group(group.name)) {
+        result.can_groups.push_back({group.name, can_group->counters()});
+      }
+    }
   }
   return result;
 }

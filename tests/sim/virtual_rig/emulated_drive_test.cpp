@@ -1,0 +1,1 @@
+#include "drive_test_support.hpp"

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "cambio/can/socketcan_bus.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/virtual_rig/virtual_rig.hpp"
@@ -17,26 +18,16 @@
 #include "config_errors.hpp"
 #include "stop_signal.hpp"
 
-#if __has_include("cambio/can/socketcan_bus.hpp")
-#include "cambio/can/socketcan_bus.hpp"
-#define CAMBIO_HAS_SOCKETCAN_BUS 1
-#endif
-
 namespace cambio::app {
 
 namespace {
 
 /// The one place the virtual rig meets the kernel's CAN stack.
 std::unique_ptr<hal::CanBus> open_socketcan_bus(const hal::CanBusInfo& info) {
-#ifdef CAMBIO_HAS_SOCKETCAN_BUS
   can::SocketCanOptions options;
   options.interface = info.interface;
   options.fd = info.fd;
   return can::SocketCanBus::open(options);
-#else
-  throw std::runtime_error("CAN bus " + info.name + " (interface " + info.interface +
-                           "): this build has no SocketCAN bus (drivers/can/socketcan_bus)");
-#endif
 }
 
 /// Fault specifications from a file, one per line; blank lines and # comments are skipped.

@@ -111,6 +111,9 @@ TEST(CanTrafficLog, LoggingNeverAllocatesOnTheLoopSide) {
   CanTrafficLog log(path.string(), 4096);
   LoggingCanBus bus(std::make_unique<BorrowedBus>(network.add_endpoint("can0")), log);
   const hal::CanFrame f = frame(0x201, {1, 2, 3, 4});
+  const std::uint64_t counter_check = runtime::thread_allocation_count();
+  (void)peer.send_batch(std::vector<hal::CanFrame>(1, f));  // escapes: cannot be elided
+  ASSERT_GT(runtime::thread_allocation_count(), counter_check) << "allocations are not counted";
   const std::uint64_t before = runtime::thread_allocation_count();
   hal::CanFrame in;
   for (int i = 0; i < 1000; ++i) {

@@ -21,8 +21,15 @@ VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
                        VirtualRigOptions options) {
   const hal::HardwareInfo hardware = config::hardware_description(rig);
   const double step_s = 1.0 / rig.sim.physics_rate_hz;
+  // The groups a master drives over CAN are those the rig puts on socketcan; a rig with none
+  // (as shipped, all on the sim) gets a drive for every group that names a bus. So the virtual
+  // rig and `cambio run` take the same rig file and the same --set overrides.
+  const bool any_socketcan =
+      std::any_of(hardware.groups.begin(), hardware.groups.end(),
+                  [](const hal::JointGroupInfo& group) { return group.backend == "socketcan"; });
   for (const auto& group : hardware.groups) {
     if (group.can_bus.empty()) continue;
+    if (any_socketcan && group.backend != "socketcan") continue;
     const hal::CanBusInfo* info = hardware.find_can_bus(group.can_bus);
     if (info == nullptr) {
       throw std::invalid_argument("virtual rig: group " + group.name + " names CAN bus '" +

@@ -26,9 +26,9 @@ struct VirtualRigOptions {
 };
 
 /// The drives of a rig, emulated: one EmulatedDrive per joint with CAN settings (node id, gear
-/// ratio, encoder counts) of every group that names a CAN bus, on that bus, whatever the group's
-/// backend (a master on the other side is what `backend: socketcan` runs). Each bus is served by
-/// one thread; its drives are touched by that thread only.
+/// ratio, encoder counts) of every group on `backend: socketcan` (what a master drives over CAN),
+/// on that group's bus; a rig with no socketcan group gets drives for every group that names a
+/// bus. Each bus is served by one thread; its drives are touched by that thread only.
 class VirtualRig {
  public:
   /// Builds the drives and opens each bus once. Throws std::invalid_argument naming the group,

@@ -207,6 +207,7 @@ void EmulatedDrive::power_on(std::int64_t now_ns) noexcept {
   powered_ = true;
   now_ns_ = now_ns;
   power_on_ns_ = now_ns;
+  first_enabled_ns_ = -1;
   servo_time_ns_ = now_ns;
   drive_state_ = DriveState::kNotReadyToSwitchOn;
   enter(DriveState::kSwitchOnDisabled);  // Transitions 0 and 1: self-test passed.
@@ -573,6 +574,7 @@ void EmulatedDrive::on_controlword(std::uint16_t controlword) noexcept {
 
 void EmulatedDrive::enter(DriveState state) noexcept {
   drive_state_ = state;
+  if (state == DriveState::kOperationEnabled && first_enabled_ns_ < 0) first_enabled_ns_ = now_ns_;
   targets_written_ = false;
   const double measured_rad = servo_.output_position_rad();
   // As the sim's drives: enabled, or stopped, hold where the joint is (never jump to an old
@@ -719,10 +721,16 @@ std::int64_t EmulatedDrive::next_event_ns() const noexcept {
   for (std::size_t k = 0; k < late_count_; ++k) next = std::min(next, late_[k].due_ns);
   for (std::size_t k = 0; k < fault_count_; ++k) {
     if (!faults_[k].done) {
-      next = std::min<std::int64_t>(next, power_on_ns_ + std::llround(faults_[k].fault.at_s * 1e9));
+      next = std::min(next, due_ns(faults_[k].fault));
     }
   }
   return next;
+}
+
+std::int64_t EmulatedDrive::due_ns(const FaultInjection& fault) const noexcept {
+  const std::int64_t base_ns = fault.after_enable ? first_enabled_ns_ : power_on_ns_;
+  if (base_ns < 0) return INT64_MAX;  // Not enabled yet.
+  return base_ns + std::llround(fault.at_s * 1e9);
 }
 
 bool EmulatedDrive::schedule(const FaultInjection& fault) noexcept {
@@ -735,7 +743,7 @@ bool EmulatedDrive::schedule(const FaultInjection& fault) noexcept {
 void EmulatedDrive::run_faults(std::int64_t now_ns) noexcept {
   for (std::size_t k = 0; k < fault_count_; ++k) {
     ScheduledFault& scheduled = faults_[k];
-    if (scheduled.done || now_ns < power_on_ns_ + std::llround(scheduled.fault.at_s * 1e9)) {
+    if (scheduled.done || now_ns < due_ns(scheduled.fault)) {
       continue;
     }
     scheduled.done = true;

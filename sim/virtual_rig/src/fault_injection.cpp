@@ -107,6 +107,10 @@ FaultInjection parse_fault(std::string_view spec) {
           static_cast<int>(whole(spec, key, value, canopen::kMinNodeId, canopen::kMaxNodeId));
     } else if (key == "at_s") {
       fault.at_s = real(spec, key, value, 0.0, 1e6);
+      fault.after_enable = false;
+    } else if (key == "after_enable_s") {
+      fault.at_s = real(spec, key, value, 0.0, 1e6);
+      fault.after_enable = true;
     } else if (key == "code" && fault.kind == FaultKind::kSdoAbort) {
       fault.abort_code = static_cast<std::uint32_t>(whole(spec, key, value, 1, 0xFFFF'FFFF));
     } else if (key == "code" && fault.kind == FaultKind::kEmergency) {
@@ -134,7 +138,7 @@ FaultInjection parse_fault(std::string_view spec) {
       has_object = true;
     } else {
       fail(spec, "key '" + std::string(key) + "' does not apply to " + std::string(kind) +
-                     " (keys: node, at_s" +
+                     " (keys: node, at_s, after_enable_s" +
                      (fault.kind == FaultKind::kEmergency ? ", code, fault" : "") +
                      (fault.kind == FaultKind::kSdoAbort ? ", object, code" : "") +
                      (fault.kind == FaultKind::kLateTpdo ? ", count, delay_ms" : "") +
@@ -182,7 +186,8 @@ std::string describe(const FaultInjection& fault) {
       break;
   }
   char when[48];
-  std::snprintf(when, sizeof when, " at %.3f s", fault.at_s);
+  std::snprintf(when, sizeof when, fault.after_enable ? " %.3f s after enable" : " at %.3f s",
+                fault.at_s);
   return node + ": " + text + when;
 }
 

@@ -156,6 +156,8 @@ class EmulatedDrive final : private SdoTarget {
   void send_emergency(std::uint16_t error_code) noexcept;
   void send(const hal::CanFrame& frame) noexcept;
   void run_faults(std::int64_t now_ns) noexcept;
+  /// When `fault` is due on this drive (INT64_MAX while an after-enable fault waits for enable).
+  std::int64_t due_ns(const FaultInjection& fault) const noexcept;
 
   EmulatedDriveConfig config_;
   hal::CanBus& bus_;
@@ -169,6 +171,7 @@ class EmulatedDrive final : private SdoTarget {
   hal::DriveState drive_state_ = hal::DriveState::kNotReadyToSwitchOn;
   bool powered_ = false;
   std::int64_t power_on_ns_ = 0;
+  std::int64_t first_enabled_ns_ = -1;  ///< When the drive first reached operation enabled.
   std::int64_t now_ns_ = 0;
   std::int64_t servo_time_ns_ = 0;
   std::int64_t next_heartbeat_ns_ = 0;

@@ -24,11 +24,14 @@ enum class FaultKind : std::uint8_t {
   kSdoAbort,  ///< Every SDO access to `object` is answered with `abort_code`.
 };
 
-/// One fault to inject into the drive(s) at `at_s` seconds after the rig started.
+/// One fault to inject into the drive(s) at `at_s` seconds after the rig started, or, with
+/// `after_enable`, `at_s` seconds after the drive first reached operation enabled (a master's
+/// start-up time is unknown to the rig; this places a fault while the master drives it).
 struct FaultInjection {
   FaultKind kind = FaultKind::kEmergency;
   int node_id = 0;  ///< 0 = every drive.
   double at_s = 0.0;
+  bool after_enable = false;
   std::uint16_t emcy_code = 0x1000;  ///< kEmergency: the error code (default "generic error").
   bool latch_fault = true;           ///< kEmergency: the drive also enters fault.
   int count = 1;                     ///< kDropTpdo / kLateTpdo / kErrorFrames.
@@ -39,10 +42,11 @@ struct FaultInjection {
 
 /// Parses a fault specification, `KIND[,key=value]...`, where KIND is one of heartbeat-stop,
 /// emcy, following-error, error-frames, drop-tpdo, late-tpdo, sdo-abort, and the keys are
-/// node (1..127, default every drive), at_s (>= 0), code (EMCY code, 0x0001..0xFFFF; SDO abort
-/// code), fault (yes/no), count (1..1000000), delay_ms (0..10000), object (INDEX:SUB in hex,
-/// e.g. 0x6065:0). Examples: `emcy,node=1,at_s=2,code=0x7300`, `late-tpdo,count=50,delay_ms=3`.
-/// Throws std::invalid_argument naming the key and what was expected.
+/// node (1..127, default every drive), at_s (>= 0) or after_enable_s (>= 0), code (EMCY code,
+/// 0x0001..0xFFFF; SDO abort code), fault (yes/no), count (1..1000000), delay_ms (0..10000), object
+/// (INDEX:SUB in hex, e.g. 0x6065:0). Examples: `emcy,node=1,at_s=2,code=0x7300`,
+/// `late-tpdo,count=50,delay_ms=3`. Throws std::invalid_argument naming the key and what was
+/// expected.
 FaultInjection parse_fault(std::string_view spec);
 
 /// The kinds' names as parse_fault() takes them.

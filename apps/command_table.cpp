@@ -13,6 +13,7 @@ int run_sim_bench_command(std::span<const std::string> args);
 int run_perceive_command(std::span<const std::string> args);
 int run_perception_bench_command(std::span<const std::string> args);
 int run_virtual_rig_command(std::span<const std::string> args);
+int run_can_bench_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
@@ -31,6 +32,8 @@ std::span<const Command> all_commands() {
               &run_perception_bench_command},
       Command{"virtual-rig", "emulate the rig's CiA 402 drives on its CAN interfaces",
               &run_virtual_rig_command},
+      Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",
+              &run_can_bench_command},
   };
   return kCommands;
 }

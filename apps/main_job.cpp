@@ -3,12 +3,12 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/control/joint_loop_plan.hpp"
 #include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
-#include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
 #include "controller_params.hpp"
 

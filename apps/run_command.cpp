@@ -213,7 +213,8 @@ int run_run_command(std::span<const std::string> args) {
     const can::CanLogReport log = can_log->close();
     std::cerr << "cambio run: CAN log " << can_log->path() << ": " << log.records_written
               << " frames";
-    if (log.records_dropped > 0) std::cerr << ", " << log.records_dropped << " LOST (writer fell behind)";
+    if (log.records_dropped > 0)
+      std::cerr << ", " << log.records_dropped << " LOST (writer fell behind)";
     std::cerr << (log.error.empty() ? "" : ", " + log.error) << "\n";
     // A log that misses frames is not the record the user asked for: the run says so.
     if (!log.ok() && outcome.exit_status == kExitOk) outcome = {"log_incomplete", kExitFailure, ""};

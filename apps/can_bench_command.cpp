@@ -11,7 +11,6 @@
 // - the bench's own peak RSS.
 // Each timed figure is the median over rounds that alternate between the cases, so a burst of
 // load from another process skews one round, not the figure.
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +22,7 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "peak_rss.hpp"
 #include "cambio/can/in_process_can_bus.hpp"
 #include "cambio/canopen/pdo_codec.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
@@ -258,12 +258,6 @@ double pdo_frames_per_s(long long frame_pairs) {
   const double elapsed_s = std::chrono::duration<double>(WallClock::now() - start).count();
   pdo_checksum_sink = checksum;
   return 2.0 * static_cast<double>(frame_pairs) / elapsed_s;
-}
-
-long peak_rss_kib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;  // KiB on Linux.
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "json_output.hpp"
 #include "main_job.hpp"
 #include "output_directory.hpp"
+#include "peak_rss.hpp"
 #include "progress_reporter.hpp"
 #include "stop_signal.hpp"
 
@@ -78,6 +79,7 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                                         {"error_frames", c.error_frames},
                                         {"boot_ups", c.boot_ups}};
   }
+  json["peak_rss_kib"] = peak_rss_kib();
   json["allocation_gate"] = {{"passed", over_budget.empty()},
                              {"loops_that_allocated", over_budget}};
   return json;

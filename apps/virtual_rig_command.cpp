@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "peak_rss.hpp"
 #include "cambio/can/socketcan_bus.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
@@ -143,6 +144,7 @@ int run_virtual_rig_command(std::span<const std::string> args) {
           static_cast<unsigned long long>(c.send_failures));
     }
   }
+  std::printf("virtual-rig: peak RSS %ld KiB\n", peak_rss_kib());
   const int signal_number = stop_signal_number();
   return signal_number != 0 ? exit_status_for_signal(signal_number) : kExitOk;
 }

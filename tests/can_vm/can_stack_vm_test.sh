@@ -131,6 +131,27 @@ check "summary.json counts the loop's SYNCs (${syncs}); candump saw those + 2 ($
 say "pan-tilt 1 kHz for 3 s in the guest: $(json_value "${phase}/out/summary.json" \
   "', '.join(f'{k} {v}' for k, v in d['can_groups']['pan_tilt'].items())")"
 
+# The CSP cycle as candump's kernel stamps saw it: from each SYNC to the last TPDO answering it.
+python3 - "${log}" <<'PY'
+import statistics, sys
+latencies_us, sync_s, pending = [], None, set()
+for line in open(sys.argv[1]):
+    stamp, _, frame = line.split()
+    t = float(stamp.strip("()"))
+    cob = frame.split("#")[0]
+    if cob == "080":
+        sync_s, pending = t, {"181", "182"}
+    elif sync_s is not None and cob in pending:
+        pending.discard(cob)
+        if not pending:
+            latencies_us.append((t - sync_s) * 1e6)
+            sync_s = None
+if latencies_us:
+    q = statistics.quantiles(latencies_us, n=100)
+    print(f"can_stack_vm_test: SYNC -> all TPDOs (emulated guest, {len(latencies_us)} cycles): "
+          f"p50 {q[49]:.0f} us, p99 {q[98]:.0f} us")
+PY
+
 # --- 2. canplayer replays the master's log --------------------------------------------------------
 mkdir -p "${work}/replay"
 head -n 400 "${work}/traffic/master.log" >"${work}/replay/part.log"

@@ -42,5 +42,6 @@ if [[ ${status} -ne 0 ]]; then
   echo "head_over_vcan_vm_test: FAILED: cambio run exited ${status} (logs in ${work})"
   exit 1
 fi
-echo "head_over_vcan_vm_test: the eyes verged with the head on CAN (vcan0)"
+echo "head_over_vcan_vm_test: the eyes verged with the head on CAN (vcan0); peak RSS of cambio run" \
+  "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["peak_rss_kib"])' "${work}/out/summary.json") KiB"
 rm -rf "${work}"

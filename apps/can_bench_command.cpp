@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "argument_parser.hpp"
-#include "peak_rss.hpp"
 #include "cambio/can/in_process_can_bus.hpp"
 #include "cambio/canopen/pdo_codec.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
@@ -35,6 +34,7 @@
 #include "cambio/virtual_rig/virtual_rig.hpp"
 #include "command.hpp"
 #include "json_output.hpp"
+#include "peak_rss.hpp"
 
 namespace cambio::app {
 

@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "argument_parser.hpp"
-#include "peak_rss.hpp"
 #include "cambio/can/socketcan_bus.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/virtual_rig/virtual_rig.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "peak_rss.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {

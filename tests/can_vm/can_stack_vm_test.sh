@@ -94,7 +94,7 @@ json_value() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); prin
 
 # --- 1. Configure, enable, hold at 1 kHz, disable: the traffic seen by candump -------------------
 start_phase traffic
-run_master --set experiment.duration_s=3 --can-log "${work}/traffic/master.log"
+run_master --set experiment.duration_s=10 --can-log "${work}/traffic/master.log"
 wait "${master_pid}"
 status=$?
 stop_phase
@@ -128,7 +128,7 @@ syncs=$(json_value "${phase}/out/summary.json" "d['can_groups']['pan_tilt']['syn
 bus_syncs=$(grep -c ' 080#$' "${log}")
 check "summary.json counts the loop's SYNCs (${syncs}); candump saw those + 2 ($(( bus_syncs )))" \
   test "${bus_syncs}" -eq $((syncs + 2))
-say "pan-tilt 1 kHz for 3 s in the guest: $(json_value "${phase}/out/summary.json" \
+say "pan-tilt 1 kHz for 10 s in the guest: $(json_value "${phase}/out/summary.json" \
   "', '.join(f'{k} {v}' for k, v in d['can_groups']['pan_tilt'].items())")"
 
 # The CSP cycle as candump's kernel stamps saw it: from each SYNC to the last TPDO answering it.

@@ -1,13 +1,42 @@
 #include "builtin_backends.hpp"
 
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cambio/can/can_traffic_log.hpp"
+#include "cambio/can/socketcan_bus.hpp"
+#include "cambio/canopen/socketcan_backend.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/scene_config.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/sim/sim_backend.hpp"
 
 namespace cambio::app {
+namespace {
+
+/// Receive filters passing every frame of the predefined connection set from or to the nodes
+/// driven on `bus` (TPDOs, SDO answers, EMCY, heartbeats; id & 0x7F == node), plus NMT and SYNC.
+std::vector<can::CanFilter> node_filters(const hal::HardwareInfo& hardware,
+                                         const hal::CanBusInfo& bus) {
+  std::vector<can::CanFilter> filters;
+  for (const auto& group : hardware.groups) {
+    if (group.backend != canopen::SocketCanBackend::kName || group.can_bus != bus.name) continue;
+    for (const auto& joint_name : group.joints) {
+      const hal::JointInfo* joint = hardware.find_joint(joint_name);
+      if (joint == nullptr || !joint->drive) continue;
+      filters.push_back({static_cast<std::uint32_t>(joint->drive->node_id), 0x7Fu});
+    }
+  }
+  return filters;
+}
+
+}  // namespace
 
 void register_builtin_backends(hal::BackendFactory& factory,
-                               const config::ExperimentConfig& experiment) {
+                               const config::ExperimentConfig& experiment,
+                               can::CanTrafficLog* can_log) {
   config::SceneConfig scene;
   if (!experiment.scene_path.empty()) {
     scene = config::load_scene(config::resolve_config_argument("scenes", experiment.scene_path));
@@ -15,7 +44,28 @@ void register_builtin_backends(hal::BackendFactory& factory,
     scene.name = "empty";
   }
   sim::register_sim_backend(factory, experiment.rig, std::move(scene));
-  factory.declare_unbuilt("socketcan", "its CANopen drivers are not built yet");
+
+  canopen::SocketCanBackendOptions options;
+  if (const config::LoopConfig* joint_loop = experiment.rig.find_loop("joint")) {
+    options.default_joint_rate_hz = joint_loop->rate_hz;
+  }
+  const hal::HardwareInfo hardware = config::hardware_description(experiment.rig);
+  std::map<std::string, std::vector<can::CanFilter>, std::less<>> filters;
+  for (const auto& bus : hardware.can_buses) filters[bus.name] = node_filters(hardware, bus);
+  canopen::register_socketcan_backend(
+      factory,
+      [can_log, filters](const hal::CanBusInfo& info) -> std::unique_ptr<hal::CanBus> {
+        can::SocketCanOptions bus_options;
+        bus_options.interface = info.interface;
+        bus_options.fd = info.fd;
+        if (const auto it = filters.find(info.name); it != filters.end()) {
+          bus_options.filters = it->second;
+        }
+        std::unique_ptr<hal::CanBus> bus = can::SocketCanBus::open(bus_options);
+        if (can_log == nullptr) return bus;
+        return std::make_unique<can::LoggingCanBus>(std::move(bus), *can_log);
+      },
+      options);
 }
 
 }  // namespace cambio::app

@@ -12,6 +12,8 @@ int run_render_command(std::span<const std::string> args);
 int run_sim_bench_command(std::span<const std::string> args);
 int run_perceive_command(std::span<const std::string> args);
 int run_perception_bench_command(std::span<const std::string> args);
+int run_virtual_rig_command(std::span<const std::string> args);
+int run_can_bench_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
@@ -28,6 +30,10 @@ std::span<const Command> all_commands() {
               &run_perceive_command},
       Command{"perception-bench", "time the SSM against memcpy and full-image OpenCV",
               &run_perception_bench_command},
+      Command{"virtual-rig", "emulate the rig's CiA 402 drives on its CAN interfaces",
+              &run_virtual_rig_command},
+      Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",
+              &run_can_bench_command},
   };
   return kCommands;
 }

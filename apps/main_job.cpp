@@ -3,6 +3,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/control/joint_loop_plan.hpp"
 #include "cambio/control/pose_hold_loop.hpp"
@@ -216,6 +217,14 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   if (vergence_loop_ != nullptr) {
     control::VergenceStatus status;
     if (vergence_loop_->status().read(status)) result.vergence = status;
+  }
+  if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
+    const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);
+    for (const auto& group : hardware_.groups) {
+      if (const canopen::CanJointGroup* can_group = can_backend.group(group.name)) {
+        result.can_groups.push_back({group.name, can_group->counters()});
+      }
+    }
   }
   return result;
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/rig_hold.hpp"
@@ -23,6 +24,12 @@
 namespace cambio::app {
 
 /// What a run produced, for the report and --out.
+/// What one CAN joint group counted during the run (the socketcan backend's CanGroupCounters).
+struct CanGroupReport {
+  std::string group;
+  canopen::CanGroupCounters counters;
+};
+
 struct MainJobResult {
   std::vector<runtime::LoopStatistics> loops;
   bool realtime = false;
@@ -38,6 +45,7 @@ struct MainJobResult {
   double wall_s = 0.0;
   std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
   std::optional<control::VergenceStatus> vergence;   ///< If the task was vergence.
+  std::vector<CanGroupReport> can_groups;            ///< One per socketcan group.
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):

@@ -2,16 +2,19 @@
 #include <cmath>
 #include <csignal>
 #include <iostream>
+#include <memory>
 #include <optional>
 
 #include "argument_parser.hpp"
 #include "builtin_backends.hpp"
+#include "cambio/can/can_traffic_log.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
 #include "main_job.hpp"
 #include "output_directory.hpp"
+#include "peak_rss.hpp"
 #include "progress_reporter.hpp"
 #include "stop_signal.hpp"
 
@@ -63,6 +66,20 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
     json["loops"].push_back(runtime::statistics_json(loop));
     if (!runtime::passes_allocation_gate(loop)) over_budget.push_back(loop.name);
   }
+  for (const auto& report : result.can_groups) {
+    const auto& c = report.counters;
+    json["can_groups"][report.group] = {{"syncs_sent", c.syncs_sent},
+                                        {"tpdos_received", c.tpdos_received},
+                                        {"missed_sync_answers", c.missed_sync_answers},
+                                        {"late_tpdos", c.late_tpdos},
+                                        {"malformed_frames", c.malformed_frames},
+                                        {"unexpected_frames", c.unexpected_frames},
+                                        {"tx_queue_full", c.tx_queue_full},
+                                        {"emergencies", c.emergencies},
+                                        {"error_frames", c.error_frames},
+                                        {"boot_ups", c.boot_ups}};
+  }
+  json["peak_rss_kib"] = peak_rss_kib();
   json["allocation_gate"] = {{"passed", over_budget.empty()},
                              {"loops_that_allocated", over_budget}};
   return json;
@@ -92,7 +109,10 @@ int run_run_command(std::span<const std::string> args) {
       .repeated_option("set", "KEY=VALUE",
                        "override an experiment key (experiment.duration_s=2) or, prefixed with "
                        "rig., a rig key (rig.loops.control.rate_hz=100)")
-      .option("out", "DIR", "write each camera's last frame (PNG) and summary.json here");
+      .option("out", "DIR", "write each camera's last frame (PNG) and summary.json here")
+      .option("can-log", "FILE",
+              "log every CAN frame of the socketcan groups' buses to FILE in candump -L format "
+              "(replay with canplayer -I FILE)");
   if (!parser.parse(args)) return kExitOk;
 
   std::vector<config::ConfigOverride> overrides;
@@ -109,10 +129,20 @@ int run_run_command(std::span<const std::string> args) {
   std::optional<OutputDirectory> out;
   if (parser.has("out")) out.emplace(parser.value("out"), "run");
 
+  std::unique_ptr<can::CanTrafficLog> can_log;
+  if (parser.has("can-log")) {
+    try {
+      can_log = std::make_unique<can::CanTrafficLog>(parser.value("can-log"));
+    } catch (const std::runtime_error& error) {
+      std::cerr << "cambio run: --can-log: " << error.what() << "\n";
+      return kExitBadInput;
+    }
+  }
+
   hal::BackendFactory factory;
   std::unique_ptr<MainJob> job;
   try {
-    register_builtin_backends(factory, experiment);
+    register_builtin_backends(factory, experiment, can_log.get());
     job = std::make_unique<MainJob>(experiment, factory);
   } catch (const hal::BackendUnavailable& error) {
     std::cerr << "cambio run: " << error.what() << "\n";
@@ -120,6 +150,10 @@ int run_run_command(std::span<const std::string> args) {
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
+  } catch (const std::runtime_error& error) {
+    // A bus that cannot be opened, a drive that does not answer or refuses its parameters.
+    std::cerr << "cambio run: " << error.what() << "\n";
+    return kExitDeviceFault;
   }
 
   const auto& stop = install_stop_signal_handlers();
@@ -140,6 +174,14 @@ int run_run_command(std::span<const std::string> args) {
             << " refused for mismatched stamps)"
             << ", joint-loop watchdog holds: " << result.watchdog_cycles
             << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles\n";
+  for (const auto& report : result.can_groups) {
+    const auto& c = report.counters;
+    std::cout << "CAN group " << report.group << ": " << c.syncs_sent << " SYNCs, "
+              << c.tpdos_received << " TPDOs, " << c.missed_sync_answers << " missed answers, "
+              << c.late_tpdos << " late TPDOs, " << c.emergencies << " EMCY, " << c.error_frames
+              << " error frames, " << c.tx_queue_full << " frames refused by a full queue, "
+              << c.malformed_frames + c.unexpected_frames << " malformed/unexpected frames\n";
+  }
   if (result.fault_latched_at_end) {
     std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
   }
@@ -168,7 +210,17 @@ int run_run_command(std::span<const std::string> args) {
               << " times in update() without declaring it\n";
   }
 
-  const RunOutcome outcome = outcome_of(result, goal_failed);
+  RunOutcome outcome = outcome_of(result, goal_failed);
+  if (can_log) {
+    const can::CanLogReport log = can_log->close();
+    std::cerr << "cambio run: CAN log " << can_log->path() << ": " << log.records_written
+              << " frames";
+    if (log.records_dropped > 0)
+      std::cerr << ", " << log.records_dropped << " LOST (writer fell behind)";
+    std::cerr << (log.error.empty() ? "" : ", " + log.error) << "\n";
+    // A log that misses frames is not the record the user asked for: the run says so.
+    if (!log.ok() && outcome.exit_status == kExitOk) outcome = {"log_incomplete", kExitFailure, ""};
+  }
   if (outcome.name == "interrupted") {
     std::cerr << "cambio run: interrupted by " << outcome.signal_name << " at "
               << result.simulated_s << " of " << experiment.duration_s << " s\n";

@@ -17,6 +17,15 @@
 namespace cambio::control {
 namespace {
 
+/// A group of the sim backend with no limits (kinematics reads only names and joint order).
+hal::JointGroupInfo sim_group(std::string name, std::vector<std::string> joints) {
+  hal::JointGroupInfo group;
+  group.name = std::move(name);
+  group.backend = "sim";
+  group.joints = std::move(joints);
+  return group;
+}
+
 using std::numbers::pi;
 
 constexpr double kL1M = 0.30;  // Planar arm: upper arm length.
@@ -59,7 +68,7 @@ hal::HardwareInfo planar_arm() {
   hardware.name = "planar";
   hardware.joints = {joint("shoulder", "base", Eigen::Isometry3d::Identity(), {0, 0, 1}),
                      joint("elbow", "shoulder", translation(kL1M, 0, 0), {0, 0, 1})};
-  hardware.groups = {{"arm", "sim", {"shoulder", "elbow"}, {}, ""}};
+  hardware.groups = {sim_group("arm", {"shoulder", "elbow"})};
   hal::CameraInfo camera;
   camera.name = "hand_eye";
   camera.parent_frame = "elbow";
@@ -98,8 +107,7 @@ hal::HardwareInfo random_tree(std::mt19937& rng) {
                      joint("d", "a", random_pose(rng), axis(), 0.0, 2.0),
                      joint("c", "b", random_pose(rng), axis(), -1.0, 1.0),
                      joint("e", "d", random_pose(rng), axis(), -3.0, 3.0)};
-  hardware.groups = {{"second", "sim", {"e", "d", "f"}, {}, ""},
-                     {"first", "sim", {"c", "a", "b"}, {}, ""}};
+  hardware.groups = {sim_group("second", {"e", "d", "f"}), sim_group("first", {"c", "a", "b"})};
   hal::CameraInfo camera;
   camera.name = "cam";
   camera.parent_frame = "c";
@@ -298,7 +306,7 @@ TEST(Kinematics, RigOrderFollowsTheGroups) {
 
 TEST(Kinematics, UngroupedJointsAreAtZeroInRigOrder) {
   hal::HardwareInfo hardware = planar_arm();
-  hardware.groups = {{"arm", "sim", {"elbow"}, {}, ""}};
+  hardware.groups = {sim_group("arm", {"elbow"})};
   Kinematics kinematics(hardware);
   ASSERT_EQ(kinematics.update_rig_order(std::vector<double>{0.5}), hal::Status::kOk);
   EXPECT_EQ(kinematics.q_rad()[0], 0.0);
@@ -402,7 +410,7 @@ TEST(Kinematics, RefusesBrokenTreesNamingTheOffender) {
   expect_refused(construction_error(bad_group), "group 'arm' names unknown joint 'wrist'");
 
   hal::HardwareInfo twice = planar_arm();
-  twice.groups.push_back({"again", "sim", {"elbow"}, {}, ""});
+  twice.groups.push_back(sim_group("again", {"elbow"}));
   expect_refused(construction_error(twice), "joint 'elbow' is listed twice");
 
   EXPECT_EQ(construction_error(planar_arm(), kPlanarTip), "");

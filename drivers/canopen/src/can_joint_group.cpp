@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -13,7 +14,8 @@ CanJointGroup::CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDri
       rate_hz_(rate_hz),
       bus_(bus),
       clock_(clock),
-      stale_after_syncs_(std::max(1, info_.can.stale_after_missed_syncs)) {
+      stale_after_syncs_(std::max(1, info_.can.stale_after_missed_syncs)),
+      sdo_timeout_ns_(static_cast<std::int64_t>(std::llround(info_.can.sdo_timeout_s * 1e9))) {
   if (drives.size() != info_.joints.size() || info_.limits.size() != info_.joints.size()) {
     throw std::invalid_argument("CAN joint group '" + info_.name +
                                 "': one drive and one set of limits per joint are needed");
@@ -53,12 +55,13 @@ CanJointGroup::CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDri
                              cia402::Units::from(drive.gear_ratio, drive.encoder_counts_per_rev),
                              drive.mode);
     slot.heartbeat = HeartbeatConsumer(heartbeat_ns);
-    slot.gear_ratio = drive.gear_ratio;
+    slot.drive.set_torque_units({0.0, drive.gear_ratio});
     slots_.push_back(slot);
   }
   // RPDO1 (and RPDO2 when mapped) per drive, then SYNC.
   const std::size_t per_drive = layout_.rpdos[1].empty() ? 1 : 2;
-  tx_.resize(slots_.size() * per_drive + 1);
+  // One more for the reconfiguration's SDO request or NMT start.
+  tx_.resize(slots_.size() * per_drive + 2);
 }
 
 void CanJointGroup::seed_feedback(std::size_t joint, const DriveFeedback& feedback,
@@ -68,7 +71,18 @@ void CanJointGroup::seed_feedback(std::size_t joint, const DriveFeedback& feedba
 }
 
 void CanJointGroup::set_rated_torque(std::size_t joint, double rated_torque_nm) {
-  slots_[joint].rated_torque_nm = rated_torque_nm;
+  slots_[joint].drive.set_torque_units(
+      {rated_torque_nm, slots_[joint].drive.torque_units().gear_ratio});
+}
+
+void CanJointGroup::set_configuration(std::size_t joint, std::span<const ObjectWrite> writes) {
+  slots_[joint].configuration = reconfiguration_plan(writes);
+}
+
+ReconfigurationError CanJointGroup::last_reconfiguration_error() const {
+  ReconfigurationError error;
+  (void)last_error_.read(error);
+  return error;
 }
 
 void CanJointGroup::arm(std::int64_t now_ns) {
@@ -81,7 +95,66 @@ void CanJointGroup::arm(std::int64_t now_ns) {
 }
 
 bool CanJointGroup::faulted_or_lost(const Slot& slot) const {
-  return hal::is_faulted(slot.drive.state()) || slot.heartbeat.lost() || slot.heartbeat.rebooted();
+  return hal::is_faulted(slot.drive.state()) || slot.heartbeat.lost() ||
+         slot.heartbeat.rebooted() || bus_fault_;
+}
+
+namespace {
+bool bus_is_down(hal::CanBusState state) {
+  return state == hal::CanBusState::kBusOff || state == hal::CanBusState::kDown;
+}
+}  // namespace
+
+void CanJointGroup::check_bus() {
+  if (bus_fault_ || !bus_is_down(bus_.status().state)) return;
+  bus_fault_ = true;
+  bump(counters_.bus_faults);
+}
+
+void CanJointGroup::run_reconfiguration(std::int64_t now_ns) {
+  if (reconfiguring_ >= 0) {
+    Slot& slot = slots_[static_cast<std::size_t>(reconfiguring_)];
+    reconfiguration_.poll(now_ns);
+    if (reconfiguration_.state() == NodeReconfiguration::State::kDone) {
+      // Configured, verified and started: the SDO answers show it alive, so its heartbeat (now
+      // configured again) has three periods from here.
+      slot.heartbeat.clear_rebooted();
+      slot.heartbeat.clear_lost();
+      slot.heartbeat.arm(now_ns);
+      slot.drive.on_feedback(reconfiguration_.feedback());
+      slot.stamp_ns = now_ns;
+      slot.missed_syncs = 0;
+      slot.reconfiguration_requested = false;
+      bump(counters_.reconfigurations);
+      reconfiguring_ = -1;
+    } else if (reconfiguration_.state() == NodeReconfiguration::State::kFailed) {
+      // Stays rebooted (comm lost); a later fault reset tries again.
+      slot.reconfiguration_requested = false;
+      last_error_.write(reconfiguration_.error());
+      bump(counters_.reconfiguration_failures);
+      reconfiguring_ = -1;
+    }
+  }
+  // One at a time, and not while the bus is off or a failed run's abort is still to go out.
+  if (reconfiguring_ >= 0 || bus_fault_ || reconfiguration_.has_pending()) return;
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    Slot& slot = slots_[k];
+    if (!slot.reconfiguration_requested) continue;
+    if (slot.configuration.empty()) {
+      slot.reconfiguration_requested = false;
+      ReconfigurationError error;
+      error.node_id = slot.drive.node_id();
+      std::snprintf(error.text.data(), error.text.size(),
+                    "node %d: rebooted, and no configuration was recorded to replay",
+                    slot.drive.node_id());
+      last_error_.write(error);
+      bump(counters_.reconfiguration_failures);
+      continue;
+    }
+    reconfiguration_.start(slot.drive.node_id(), slot.configuration, sdo_timeout_ns_, now_ns);
+    reconfiguring_ = static_cast<int>(k);
+    return;
+  }
 }
 
 void CanJointGroup::on_tpdo(Slot& slot, int pdo, const hal::CanFrame& frame,
@@ -140,13 +213,23 @@ void CanJointGroup::dispatch(const hal::CanFrame& frame, std::int64_t now_ns) {
       slot.emergency.on_emergency(*emergency);
       return;
     }
+    case 0x580:
+      if (reconfiguring_ == index) {
+        reconfiguration_.on_frame(frame, now_ns);
+      } else {
+        bump(counters_.unexpected_frames);
+      }
+      return;
     case 0x700: {
       const auto state = heartbeat_state(frame);
       if (!state) {
         bump(counters_.malformed_frames);
         return;
       }
-      if (*state == NmtState::kBootUp) bump(counters_.boot_ups);
+      if (*state == NmtState::kBootUp) {
+        bump(counters_.boot_ups);
+        if (reconfiguring_ == index) reconfiguration_.fail("booted again while being configured");
+      }
       slot.heartbeat.on_heartbeat(*state, stamp_ns);
       return;
     }
@@ -161,6 +244,8 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
   const std::int64_t now_ns = clock_.now_ns();
   hal::CanFrame frame;
   while (bus_.receive(frame) == hal::Status::kOk) dispatch(frame, now_ns);
+  check_bus();
+  run_reconfiguration(now_ns);
 
   if (sync_to_check_) {
     for (Slot& slot : slots_) {
@@ -194,15 +279,16 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
     state.velocity_rad_s =
         layout_.tpdos[1].empty() ? 0.0 : units.to_rad(feedback.velocity_counts_s);
     // Torque actual is per mille of the motor's rated torque; the gear multiplies it.
-    state.effort_nm = static_cast<double>(feedback.torque_per_mille) * 1e-3 * slot.rated_torque_nm *
-                      slot.gear_ratio;
+    state.effort_nm = slot.drive.torque_units().to_joint_nm(feedback.torque_per_mille);
     state.stamp_ns = slot.stamp_ns;
     state.error_code = slot.emergency.error_code;
     state.drive_state = slot.drive.state();
     std::uint32_t bits = slot.clamped_bits;
     if (hal::is_faulted(slot.drive.state())) bits |= hal::kJointFault;
     if (!hal::is_enabled(slot.drive.state())) bits |= hal::kJointNotEnabled;
-    if (slot.heartbeat.lost() || slot.heartbeat.rebooted()) bits |= hal::kJointCommLost;
+    if (slot.heartbeat.lost() || slot.heartbeat.rebooted() || bus_fault_) {
+      bits |= hal::kJointCommLost;
+    }
     if (slot.missed_syncs >= stale_after_syncs_) bits |= hal::kJointStale;
     state.status_bits = bits;
     if ((bits & hal::kJointLatchingBits) != 0) status = hal::Status::kFault;
@@ -229,6 +315,8 @@ void CanJointGroup::build_rpdos(bool use_commands) {
     }
   }
   tx_[tx_count_++] = sync_frame();
+  // After SYNC: the cycle's PDOs keep their timing.
+  if (reconfiguration_.has_pending()) tx_[tx_count_++] = reconfiguration_.pending_frame();
 }
 
 hal::Status CanJointGroup::write(std::span<const hal::JointCommand> commands) {
@@ -249,12 +337,15 @@ hal::Status CanJointGroup::sync() {
   written_ = false;
   const std::size_t sent = bus_.send_batch(std::span(tx_).first(tx_count_));
   const std::int64_t now_ns = clock_.now_ns();
-  if (sent < tx_count_) {
+  const bool with_sdo = reconfiguration_.has_pending();
+  const std::size_t sync_count = tx_count_ - (with_sdo ? 1 : 0);
+  // A pending frame that did not go out is offered again next cycle.
+  if (with_sdo && sent == tx_count_) reconfiguration_.on_sent(now_ns);
+  if (sent < sync_count) {
+    check_bus();
+    if (bus_fault_) return hal::Status::kFault;
     bump(counters_.tx_queue_full, tx_count_ - sent);
-    return bus_.status().state == hal::CanBusState::kBusOff ||
-                   bus_.status().state == hal::CanBusState::kDown
-               ? hal::Status::kFault
-               : hal::Status::kNoNewData;
+    return hal::Status::kNoNewData;
   }
   bump(counters_.syncs_sent);
   last_sync_ns_ = now_ns;
@@ -274,7 +365,14 @@ hal::Status CanJointGroup::request(hal::DriveRequest request, int joint) {
     if (request == hal::DriveRequest::kFaultReset) {
       slot.emergency.clear();
       slot.heartbeat.clear_lost();
+      // Replayed from read(), once the bus is back.
+      if (slot.heartbeat.rebooted() && reconfiguring_ != k) slot.reconfiguration_requested = true;
     }
+  }
+  // The bus is cleared once it carries frames again; a bus still off re-latches at once.
+  if (request == hal::DriveRequest::kFaultReset && bus_fault_ &&
+      !bus_is_down(bus_.status().state)) {
+    bus_fault_ = false;
   }
   if (request == hal::DriveRequest::kFaultReset) reset_pending_ = true;
   return hal::Status::kOk;
@@ -284,11 +382,19 @@ CanGroupCounters CanJointGroup::counters() const {
   const auto load = [](const std::atomic<std::uint64_t>& counter) {
     return counter.load(std::memory_order_relaxed);
   };
-  return {load(counters_.syncs_sent),          load(counters_.tpdos_received),
-          load(counters_.missed_sync_answers), load(counters_.late_tpdos),
-          load(counters_.malformed_frames),    load(counters_.unexpected_frames),
-          load(counters_.tx_queue_full),       load(counters_.emergencies),
-          load(counters_.error_frames),        load(counters_.boot_ups)};
+  return {load(counters_.syncs_sent),
+          load(counters_.tpdos_received),
+          load(counters_.missed_sync_answers),
+          load(counters_.late_tpdos),
+          load(counters_.malformed_frames),
+          load(counters_.unexpected_frames),
+          load(counters_.tx_queue_full),
+          load(counters_.emergencies),
+          load(counters_.error_frames),
+          load(counters_.boot_ups),
+          load(counters_.bus_faults),
+          load(counters_.reconfigurations),
+          load(counters_.reconfiguration_failures)};
 }
 
 std::size_t CanJointGroup::shutdown_frames(std::uint16_t controlword,

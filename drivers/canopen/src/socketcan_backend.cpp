@@ -174,9 +174,20 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
         auto found = verify_objects(pump, node, what, *writes, sdo_timeout_s);
         mismatches.insert(mismatches.end(), found.begin(), found.end());
       }
-      if (info.can.effort_feedback) {
+      // The replay a reboot needs, precomputed here: the loop side does not allocate.
+      std::vector<ObjectWrite> configuration = parameters;
+      configuration.insert(configuration.end(), pdos.begin(), pdos.end());
+      group.set_configuration(k, configuration);
+      if (info.can.effort_feedforward || info.can.effort_feedback) {
+        // Torque offset and torque actual value count per mille of this (torque_units.hpp).
         const std::uint32_t rated_mnm =
             sdo_read_value(pump, node, cia402::kRatedTorque, sdo_timeout_s);
+        if (rated_mnm == 0) {
+          throw std::runtime_error("node " + std::to_string(node) +
+                                   ": rated torque (0x6076:00) is 0 mN m, so effort feed-forward "
+                                   "and feedback cannot be converted; set it in the drive or "
+                                   "turn effort_feedforward and effort_feedback off");
+        }
         group.set_rated_torque(k, static_cast<double>(rated_mnm) * 1e-3);
       }
       DriveFeedback feedback;

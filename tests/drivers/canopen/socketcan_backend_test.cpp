@@ -171,6 +171,71 @@ TEST(SocketCanBackend, ASilentDriveIsNamed) {
   }
 }
 
+TEST(SocketCanBackend, ARebootedDriveGetsItsParametersAndPdosAgainOnFaultReset) {
+  Fixture f;
+  f.hardware.groups[0].can.effort_feedforward = true;
+  f.drives[1]->set(0x6076, 0, 1500, 4);
+  hal::BackendContext context;
+  context.clock = &f.clock;
+  auto backend = f.factory.make("socketcan", f.hardware, context, "test");
+  auto group = backend->make_joint_group("head");
+  backend->configure();
+  f.step();
+  const std::vector<testing::TestDrive::Write> configured = f.drives[1]->writes;
+  backend->activate();
+  std::vector<hal::JointState> states(2);
+  std::vector<hal::JointCommand> commands(2, {hal::CommandMode::kPosition, 0.0, 0, 1.5});
+  const auto cycle = [&] {
+    f.clock.advance_to_ns(f.clock.now_ns() + 2'000'000);
+    std::int64_t stamp_ns = 0;
+    const hal::Status status = group->read(states, stamp_ns);
+    (void)group->write(commands);
+    (void)group->sync();
+    for (auto& drive : f.drives) drive->step();
+    return status;
+  };
+  (void)group->request(hal::DriveRequest::kEnable);
+  for (int k = 0; k < 6; ++k) (void)cycle();
+  // 1.5 N m at the joint / gear 50 = 0.03 N m at the motor = 20 per mille of 1.5 N m.
+  EXPECT_EQ(f.drives[1]->last_torque_offset, 20);
+
+  f.drives[1]->reboot();
+  EXPECT_EQ(cycle(), hal::Status::kFault);
+  (void)group->request(hal::DriveRequest::kFaultReset);
+  const auto* can_group = dynamic_cast<SocketCanBackend&>(*backend).group("head");
+  for (int k = 0; k < 200 && can_group->counters().reconfigurations == 0; ++k) (void)cycle();
+  ASSERT_EQ(can_group->counters().reconfigurations, 1u)
+      << can_group->last_reconfiguration_error().text.data();
+  ASSERT_EQ(f.drives[1]->writes.size(), configured.size()) << "parameters and PDOs, as configured";
+  for (std::size_t i = 0; i < configured.size(); ++i) {
+    EXPECT_EQ(f.drives[1]->writes[i].index, configured[i].index) << i;
+    EXPECT_EQ(f.drives[1]->writes[i].value, configured[i].value) << i;
+  }
+  EXPECT_EQ(f.drives[1]->get(0x6060, 0), 8u);
+  (void)group->request(hal::DriveRequest::kEnable);
+  for (int k = 0; k < 8; ++k) (void)cycle();
+  EXPECT_EQ(f.drives[1]->state, hal::DriveState::kOperationEnabled);
+  EXPECT_EQ(cycle(), hal::Status::kOk);
+}
+
+TEST(SocketCanBackend, EffortWithoutARatedTorqueIsRefused) {
+  Fixture f;
+  f.hardware.groups[0].can.effort_feedforward = true;
+  f.drives[0]->set(0x6076, 0, 0, 4);
+  hal::BackendContext context;
+  context.clock = &f.clock;
+  auto backend = f.factory.make("socketcan", f.hardware, context, "test");
+  auto group = backend->make_joint_group("head");
+  try {
+    backend->configure();
+    FAIL() << "configure must refuse";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("joint 'pan': node 1: rated torque (0x6076:00) is 0"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(SocketCanBackend, TwoGroupsOnOneBusAreRefused) {
   Fixture f;
   hal::JointGroupInfo second = f.hardware.groups[0];

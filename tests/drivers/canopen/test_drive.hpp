@@ -25,6 +25,7 @@ class TestDrive {
     const char* name = "Test drive, a name longer than four bytes";
     std::vector<std::uint8_t> text(name, name + 41);
     od_[key(0x1008, 0)] = text;
+    factory_ = od_;
   }
 
   static std::uint32_t key(std::uint16_t index, std::uint8_t subindex) {
@@ -72,6 +73,8 @@ class TestDrive {
   std::int32_t last_target = 0;
   std::vector<std::uint16_t> controlwords_at_sync;
   std::vector<std::int32_t> targets_at_sync;
+  std::int16_t last_torque_offset = 0;       ///< 0x60B2 from RPDO2, per mille.
+  std::int16_t torque_actual_per_mille = 0;  ///< 0x6077 sent in TPDO2.
 
   void step() {
     hal::CanFrame frame;
@@ -92,6 +95,16 @@ class TestDrive {
                  error_register, 0, 0, 0, 0, 0});
   }
   void fault() { state = hal::DriveState::kFault; }
+  /// A power cycle: the dictionary back to its factory values (parameters and PDO mappings
+  /// gone), switch on disabled, pre-operational, boot-up sent. The axis stays where it is.
+  void reboot() {
+    od_ = factory_;
+    state = hal::DriveState::kSwitchOnDisabled;
+    previous_controlword_ = 0;
+    last_controlword = 0;
+    writes.clear();
+    send_boot_up();
+  }
 
  private:
   void send_simple(std::uint32_t id, std::vector<std::uint8_t> data) {
@@ -166,6 +179,20 @@ class TestDrive {
       }
       return;
     }
+    if (frame.id == 0x300u + node_id_) {
+      // RPDO2 as mapped at 0x1601: velocity offset and/or torque offset.
+      std::size_t offset = 0;
+      for (std::uint8_t sub = 1; sub <= get(0x1601, 0); ++sub) {
+        const std::uint32_t entry = get(0x1601, sub);
+        const std::size_t bytes = (entry & 0xFF) / 8;
+        std::uint32_t value = 0;
+        for (std::size_t i = 0; i < bytes; ++i)
+          value |= std::uint32_t{frame.data[offset + i]} << (8 * i);
+        offset += bytes;
+        if ((entry >> 16) == 0x60B2) last_torque_offset = static_cast<std::int16_t>(value);
+      }
+      return;
+    }
     if (frame.id == 0x080 && frame.length == 0) on_sync();
   }
 
@@ -196,6 +223,22 @@ class TestDrive {
     }
     tpdo.length = static_cast<std::uint8_t>(offset);
     (void)bus_.send(tpdo);
+    if (get(0x1A01, 0) == 0) return;
+    // TPDO2 as mapped at 0x1A01: velocity actual (0 here) and/or torque actual.
+    hal::CanFrame tpdo2;
+    tpdo2.id = 0x280u + node_id_;
+    offset = 0;
+    for (std::uint8_t sub = 1; sub <= get(0x1A01, 0); ++sub) {
+      const std::uint32_t entry = get(0x1A01, sub);
+      const std::size_t bytes = (entry & 0xFF) / 8;
+      std::uint32_t value = 0;
+      if ((entry >> 16) == 0x6077) value = static_cast<std::uint16_t>(torque_actual_per_mille);
+      for (std::size_t i = 0; i < bytes; ++i)
+        tpdo2.data[offset + i] = static_cast<std::uint8_t>(value >> (8 * i));
+      offset += bytes;
+    }
+    tpdo2.length = static_cast<std::uint8_t>(offset);
+    (void)bus_.send(tpdo2);
   }
 
   std::uint16_t statusword() const {
@@ -338,6 +381,7 @@ class TestDrive {
   hal::CanBus& bus_;
   std::uint32_t node_id_;
   std::map<std::uint32_t, std::vector<std::uint8_t>> od_;
+  std::map<std::uint32_t, std::vector<std::uint8_t>> factory_;
   std::uint16_t previous_controlword_ = 0;
   std::uint16_t segment_index_ = 0;
   std::uint8_t segment_sub_ = 0;

@@ -22,8 +22,9 @@ struct CanFrame {
   bool remote_request = false;  ///< RTR (classic only).
   bool error_frame = false;     ///< Error frame reported by the controller; `data` holds its class.
   bool fd = false;              ///< CAN FD frame (up to 64 data bytes).
-  bool bit_rate_switch = false;  ///< FD BRS: data phase at the data bit rate.
-  std::uint8_t length = 0;       ///< Data bytes (0-8 classic; FD: 0-8,12,16,20,24,32,48,64).
+  bool bit_rate_switch = false;        ///< FD BRS: data phase at the data bit rate.
+  bool error_state_indicator = false;  ///< FD ESI: the transmitter was error passive.
+  std::uint8_t length = 0;             ///< Data bytes (0-8 classic; FD: 0-8,12,16,20,24,32,48,64).
   std::array<std::uint8_t, kMaxFdDataBytes> data{};
   std::int64_t stamp_ns = 0;  ///< Receive time (kernel timestamp where available).
 };
@@ -43,7 +44,12 @@ struct CanBusStatus {
   std::uint16_t rx_error_count = 0;
   std::uint64_t frames_sent = 0;
   std::uint64_t frames_received = 0;
-  std::uint64_t frames_dropped = 0;  ///< Send queue full or receive overruns.
+  std::uint64_t frames_dropped = 0;    ///< Send queue full or receive overruns.
+  std::uint64_t tx_queue_full = 0;     ///< Sends refused: the kernel's transmit queue was full.
+  std::uint64_t rx_overruns = 0;       ///< Frames the kernel dropped before we read them.
+  std::uint64_t error_frames = 0;      ///< Error frames received from the controller.
+  std::uint64_t bus_off_count = 0;     ///< Times the controller went bus-off.
+  std::uint64_t malformed_frames = 0;  ///< Received frames that could not be decoded (ignored).
 };
 
 /// A CAN interface (SocketCAN, or the in-process bus used in unit tests).

@@ -7,8 +7,12 @@
 //            one whose heartbeat missed 3 periods is lost (latched kJointCommLost)
 //   write()  clamp, then controlword + target per drive into the RPDOs
 //   sync()   every RPDO then SYNC, with one send_batch
-// After a fault, a loss or a reboot anywhere in the group, no motion command goes out for the
-// group: enabled drives are quick-stopped at their measured positions until a fault reset.
+// After a fault, a loss or a reboot anywhere in the group, or the bus going bus-off or down, no
+// motion command goes out for the group: enabled drives are quick-stopped at their measured
+// positions until a fault reset. A fault reset also clears a bus fault once the bus carries frames
+// again (after the kernel's restart-ms), and replays the configuration of drives that rebooted
+// (node_reconfiguration.hpp), one SDO exchange per cycle; such a drive is enabled again only by a
+// later enable request, at its measured position.
 // The group is the bus's SYNC producer: one CAN group per bus.
 // read/write/sync/request: no allocation, no lock, no blocking, one send system call per cycle.
 
@@ -21,11 +25,13 @@
 #include "cambio/canopen/cia402_drive.hpp"
 #include "cambio/canopen/emcy_consumer.hpp"
 #include "cambio/canopen/nmt_master.hpp"
+#include "cambio/canopen/node_reconfiguration.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
 #include "cambio/hal/can_bus.hpp"
 #include "cambio/hal/clock.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/joint_group.hpp"
+#include "cambio/hal/seqlock_channel.hpp"
 
 namespace cambio::canopen {
 
@@ -41,6 +47,9 @@ struct CanGroupCounters {
   std::uint64_t emergencies = 0;
   std::uint64_t error_frames = 0;
   std::uint64_t boot_ups = 0;
+  std::uint64_t bus_faults = 0;                ///< Times the bus was found bus-off or down.
+  std::uint64_t reconfigurations = 0;          ///< Rebooted drives configured again, verified.
+  std::uint64_t reconfiguration_failures = 0;  ///< Abort, timeout or read-back mismatch.
 };
 
 class CanJointGroup final : public hal::JointGroup {
@@ -67,14 +76,22 @@ class CanJointGroup final : public hal::JointGroup {
   const Cia402Drive& drive(std::size_t joint) const { return slots_[joint].drive; }
   /// The drive's state read over SDO at configure time, so the first read() is real.
   void seed_feedback(std::size_t joint, const DriveFeedback& feedback, std::int64_t stamp_ns);
-  /// The motor's rated torque (0x6076, N m) for effort feedback; 0 = effort not reported.
+  /// The motor's rated torque (0x6076, N m) for effort feed-forward and feedback
+  /// (torque_units.hpp); 0 = unknown: effort is neither sent nor reported.
   void set_rated_torque(std::size_t joint, double rated_torque_nm);
+  /// The SDO writes configure() made on the joint's drive (drive parameters, then PDO
+  /// configuration), replayed when the drive reboots. Without them a rebooted drive stays lost.
+  void set_configuration(std::size_t joint, std::span<const ObjectWrite> writes);
+  /// Why the last loop-side reconfiguration failed (node_id 0: none failed). Thread-safe.
+  ReconfigurationError last_reconfiguration_error() const;
   /// Starts watching heartbeats and SYNC answers (activate()).
   void arm(std::int64_t now_ns);
-  /// Drives that sent a boot-up since arm(): their configuration is gone.
+  /// Drives that sent a boot-up since arm(): their configuration is gone until replayed.
   bool needs_reconfiguration(std::size_t joint) const { return slots_[joint].heartbeat.rebooted(); }
-  /// After the backend configured a rebooted drive again.
-  void reconfigured(std::size_t joint) { slots_[joint].heartbeat.clear_rebooted(); }
+  /// The joint's drive is being configured again (loop thread).
+  bool reconfiguring(std::size_t joint) const { return reconfiguring_ == static_cast<int>(joint); }
+  /// The bus was found bus-off or down and no fault reset has cleared it yet (loop thread).
+  bool bus_fault() const { return bus_fault_; }
   /// One RPDO1 per drive carrying `controlword` and the measured position, then SYNC, into
   /// `out` (size >= size() + 1); returns the count. For deactivate(): quick stop, disable.
   std::size_t shutdown_frames(std::uint16_t controlword, std::span<hal::CanFrame> out) const;
@@ -85,8 +102,8 @@ class CanJointGroup final : public hal::JointGroup {
     HeartbeatConsumer heartbeat;
     EmergencyRecord emergency;
     hal::JointCommand command{};
-    double gear_ratio = 1.0;
-    double rated_torque_nm = 0.0;
+    std::vector<ReconfigurationStep> configuration;  ///< Empty: cannot be reconfigured.
+    bool reconfiguration_requested = false;
     std::int64_t stamp_ns = 0;
     int missed_syncs = 0;
     bool answered = false;  ///< A TPDO1 since the last SYNC.
@@ -96,6 +113,8 @@ class CanJointGroup final : public hal::JointGroup {
   void dispatch(const hal::CanFrame& frame, std::int64_t now_ns);
   void on_tpdo(Slot& slot, int pdo, const hal::CanFrame& frame, std::int64_t stamp_ns);
   bool faulted_or_lost(const Slot& slot) const;
+  void check_bus();
+  void run_reconfiguration(std::int64_t now_ns);
   void build_rpdos(bool use_commands);
   static void bump(std::atomic<std::uint64_t>& counter, std::uint64_t by = 1) {
     counter.store(counter.load(std::memory_order_relaxed) + by, std::memory_order_relaxed);
@@ -116,11 +135,17 @@ class CanJointGroup final : public hal::JointGroup {
   bool sync_to_check_ = false;  ///< A SYNC went out whose answers read() has not checked.
   std::int64_t last_sync_ns_ = 0;
   std::int64_t stale_after_syncs_ = 3;
+  bool bus_fault_ = false;
+  NodeReconfiguration reconfiguration_;
+  int reconfiguring_ = -1;  ///< The joint being reconfigured, or -1.
+  std::int64_t sdo_timeout_ns_ = 0;
+  hal::SeqlockChannel<ReconfigurationError> last_error_;
 
   struct AtomicCounters {
     std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},
         late_tpdos{0}, malformed_frames{0}, unexpected_frames{0}, tx_queue_full{0}, emergencies{0},
-        error_frames{0}, boot_ups{0};
+        error_frames{0}, boot_ups{0}, bus_faults{0}, reconfigurations{0},
+        reconfiguration_failures{0};
   } counters_;
 };
 

@@ -11,6 +11,7 @@
 
 #include "cambio/canopen/cia402.hpp"
 #include "cambio/canopen/pdo_codec.hpp"
+#include "cambio/canopen/torque_units.hpp"
 #include "cambio/hal/drive_state.hpp"
 #include "cambio/hal/joint_group.hpp"
 
@@ -25,6 +26,9 @@ class Cia402Drive {
   int node_id() const { return node_id_; }
   const cia402::Units& units() const { return units_; }
   hal::CommandMode mode() const { return mode_; }
+  /// The drive's rated torque (read at configure) for the torque offset and torque actual value.
+  void set_torque_units(TorqueUnits torque) { torque_ = torque; }
+  const TorqueUnits& torque_units() const { return torque_; }
 
   /// A statusword and position (and optional velocity/torque) the drive reported.
   void on_feedback(const DriveFeedback& feedback) {
@@ -63,6 +67,9 @@ class Cia402Drive {
                  command.mode == hal::CommandMode::kVelocity) {
         targets.target_velocity_counts_s = units_.to_counts(command.value);
       }
+      if (command.mode == mode_) {
+        targets.torque_offset_per_mille = torque_.to_per_mille(command.effort_feedforward_nm);
+      }
       // A command in the other mode than the drive's is not executed: the drive holds.
     }
     return targets;
@@ -72,6 +79,7 @@ class Cia402Drive {
  private:
   int node_id_ = 0;
   cia402::Units units_{};
+  TorqueUnits torque_{};
   hal::CommandMode mode_ = hal::CommandMode::kPosition;
   DriveFeedback feedback_{};
   hal::DriveState state_ = hal::DriveState::kNotReadyToSwitchOn;

@@ -7,8 +7,9 @@
 //   configure()         per bus: NMT reset communication, wait for each node's boot-up (or its
 //                       answer to an SDO read of 0x1000), write the drive parameters and PDO
 //                       mappings over SDO and read them back (a mismatch refuses to go on, naming
-//                       node, object, value written and value read), read each drive's state and
-//                       position, NMT start
+//                       node, object, value written and value read), read the rated torque when
+//                       effort is fed forward or fed back, read each drive's state and position,
+//                       NMT start; the writes are kept for replaying on a drive that reboots
 //   activate()          heartbeat and SYNC-answer watching starts; drives are enabled by the joint
 //                       loop's requests, at their measured positions
 //   deactivate()        quick stop, then disable every drive, then NMT enter pre-operational

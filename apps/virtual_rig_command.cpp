@@ -1,0 +1,152 @@
+// `cambio virtual-rig --config RIG [--set key=value]... [--fault SPEC]... [--fault-file FILE]
+// [--seed N] [--duration-s S]`: emulates one CiA 402 drive per CAN joint of the rig on the
+// interfaces its can_buses name, until SIGINT/SIGTERM or the duration.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "argument_parser.hpp"
+#include "cambio/can/socketcan_bus.hpp"
+#include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/monotonic_clock.hpp"
+#include "cambio/virtual_rig/virtual_rig.hpp"
+#include "command.hpp"
+#include "config_errors.hpp"
+#include "peak_rss.hpp"
+#include "stop_signal.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+/// The one place the virtual rig meets the kernel's CAN stack.
+std::unique_ptr<hal::CanBus> open_socketcan_bus(const hal::CanBusInfo& info) {
+  can::SocketCanOptions options;
+  options.interface = info.interface;
+  options.fd = info.fd;
+  return can::SocketCanBus::open(options);
+}
+
+/// Fault specifications from a file, one per line; blank lines and # comments are skipped.
+std::vector<virtual_rig::FaultInjection> read_fault_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("virtual-rig: --fault-file " + path + ": cannot be read");
+  std::vector<virtual_rig::FaultInjection> faults;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    try {
+      faults.push_back(virtual_rig::parse_fault(line.substr(first, last - first + 1)));
+    } catch (const std::invalid_argument& error) {
+      throw UsageError("virtual-rig: " + path + ":" + std::to_string(number) + ": " + error.what());
+    }
+  }
+  return faults;
+}
+
+}  // namespace
+
+int run_virtual_rig_command(std::span<const std::string> args) {
+  ArgumentParser parser("virtual-rig",
+                        "--config RIG [--set KEY=VALUE]... [--fault SPEC]... [--duration-s S]");
+  parser.option("config", "RIG", "rig file or shipped rig name, e.g. pan_tilt")
+      .repeated_option("set", "KEY=VALUE",
+                       "override a rig key, e.g. --set can_buses.can0.interface=vcan0")
+      .repeated_option("fault", "SPEC",
+                       "inject a fault: KIND[,key=value]..., KIND one of heartbeat-stop, emcy, "
+                       "following-error, error-frames, drop-tpdo, late-tpdo, sdo-abort; keys "
+                       "node, at_s, code, fault, count, delay_ms, object; e.g. "
+                       "emcy,node=1,at_s=2,code=0x7300")
+      .option("fault-file", "FILE", "fault specifications, one per line (# comments)")
+      .option("seed", "N", "seed of the servos' motion noise (default 1)")
+      .option("duration-s", "S", "stop after S seconds (default: until SIGINT/SIGTERM)");
+  if (!parser.parse(args)) return kExitOk;
+  if (!parser.has("config")) throw UsageError("virtual-rig: --config RIG is required");
+  const double duration_s = parser.number("duration-s", 0.0, config::Range{0.0, 1e7, true, false},
+                                          "seconds to run, up to about four months");
+  const long long seed = parser.integer("seed", 1, config::Range{0.0, 9e15},
+                                        "a whole number the noise generator starts from");
+
+  virtual_rig::VirtualRigOptions options;
+  options.seed = static_cast<std::uint64_t>(seed);
+  for (const auto& spec : parser.values("fault")) {
+    try {
+      options.faults.push_back(virtual_rig::parse_fault(spec));
+    } catch (const std::invalid_argument& error) {
+      throw UsageError("virtual-rig: --fault " + std::string(error.what()));
+    }
+  }
+  if (parser.has("fault-file")) {
+    for (auto& fault : read_fault_file(parser.value("fault-file"))) options.faults.push_back(fault);
+  }
+
+  std::vector<config::ConfigOverride> overrides;
+  try {
+    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
+  const auto rig = load_rig_or_report(
+      config::resolve_config_argument("rigs", parser.value("config")), overrides);
+  if (!rig) return kExitBadInput;
+
+  std::unique_ptr<virtual_rig::VirtualRig> emulated;
+  try {
+    emulated = std::make_unique<virtual_rig::VirtualRig>(*rig, &open_socketcan_bus, options);
+  } catch (const std::exception& error) {
+    std::cerr << "cambio virtual-rig: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  for (std::size_t b = 0; b < emulated->bus_count(); ++b) {
+    std::cout << "bus " << emulated->bus_info(b).name << " on "
+              << emulated->bus_info(b).interface << ":";
+    for (std::size_t k = 0; k < emulated->drive_count(b); ++k) {
+      std::cout << " node " << emulated->drive(b, k).node_id() << " (" << emulated->joint_name(b, k)
+                << ")";
+    }
+    std::cout << "\n";
+  }
+  for (const auto& fault : options.faults) std::cout << "fault: " << describe(fault) << "\n";
+  std::cout << std::flush;
+
+  const auto& stop = install_stop_signal_handlers();
+  hal::MonotonicClock clock;
+  const std::int64_t end_ns = duration_s > 0.0
+                                  ? clock.now_ns() + static_cast<std::int64_t>(duration_s * 1e9)
+                                  : std::numeric_limits<std::int64_t>::max();
+  emulated->run(clock, stop, end_ns);
+
+  for (std::size_t b = 0; b < emulated->bus_count(); ++b) {
+    for (std::size_t k = 0; k < emulated->drive_count(b); ++k) {
+      const auto& drive = emulated->drive(b, k);
+      const auto& c = drive.counters();
+      std::printf(
+          "node %d (%s): %llu SYNCs, %llu RPDOs, %llu TPDOs sent, %llu dropped, %llu late, "
+          "%llu EMCY, %llu heartbeats, %llu malformed frames, %llu send failures\n",
+          drive.node_id(), emulated->joint_name(b, k).c_str(),
+          static_cast<unsigned long long>(c.syncs), static_cast<unsigned long long>(c.rpdos),
+          static_cast<unsigned long long>(c.tpdos_sent),
+          static_cast<unsigned long long>(c.tpdos_dropped),
+          static_cast<unsigned long long>(c.tpdos_late),
+          static_cast<unsigned long long>(c.emergencies),
+          static_cast<unsigned long long>(c.heartbeats),
+          static_cast<unsigned long long>(c.malformed_frames),
+          static_cast<unsigned long long>(c.send_failures));
+    }
+  }
+  std::printf("virtual-rig: peak RSS %ld KiB\n", peak_rss_kib());
+  const int signal_number = stop_signal_number();
+  return signal_number != 0 ? exit_status_for_signal(signal_number) : kExitOk;
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,255 @@
+#!/usr/bin/env bash
+# can_stack_vm_test.sh CAMBIO: the CANopen master (`cambio run`, pan-tilt rig on socketcan) against
+# the emulated drives (`cambio virtual-rig`) in two processes talking only through the kernel's
+# CAN stack on vcan0, with can-utils as the independent peer (candump -L records, cansend injects,
+# canplayer replays). Runs inside the QEMU guest (tests/can_vm/run_in_guest.sh), where everything
+# is ~50x slower than on the host: the checks are on correctness and order, never on timing,
+# (candump gets a 32 MiB receive buffer: with the default one it drops frames under emulation)
+# except the issue's bound on fault latching (3 heartbeat periods).
+set -uo pipefail
+
+cambio=${1:?usage: can_stack_vm_test.sh CAMBIO}
+repo=$(cd -- "$(dirname -- "${BASH_SOURCE[0]}")/../.." && pwd -P)
+# Under the build directory (shared with the host), so a failure leaves its logs to read.
+work=$(mktemp -d -p "${CAMBIO_BUILD_DIR:-/tmp}" can_stack_vm_test.XXXXXX)
+rig_file=${repo}/firmware_config/rigs/pan_tilt.yaml
+experiment=${repo}/firmware_config/experiments/pan_tilt_hold.yaml
+failures=0
+rig_pid=
+dump_pid=
+
+say() { printf 'can_stack_vm_test: %s\n' "$*"; }
+check() {  # check DESCRIPTION COMMAND...
+  local what=$1
+  shift
+  if "$@"; then say "ok: ${what}"; else say "FAILED: ${what}"; failures=$((failures + 1)); fi
+}
+cleanup() {
+  [[ -n ${rig_pid} ]] && kill -CONT "${rig_pid}" 2>/dev/null && kill -INT "${rig_pid}" 2>/dev/null
+  [[ -n ${dump_pid} ]] && kill "${dump_pid}" 2>/dev/null
+  wait 2>/dev/null
+}
+trap cleanup EXIT
+
+rig_sets=(--set groups.pan_tilt.backend=socketcan --set can_buses.can0.interface=vcan0)
+# A tiny camera at 5 Hz: the guest renders on an emulated CPU and the camera is not under test.
+run_sets=(--set rig.groups.pan_tilt.backend=socketcan --set rig.can_buses.can0.interface=vcan0
+  --set rig.cameras.camera.width_px=64 --set rig.cameras.camera.height_px=48
+  --set rig.cameras.camera.focal_px=55 --set "rig.cameras.camera.principal_point_px=[31.5,23.5]"
+  --set rig.loops.camera.rate_hz=5)
+
+# start_phase NAME [virtual-rig arguments...]: the emulated drives and a candump -L recorder.
+start_phase() {
+  local name=$1
+  shift
+  phase=${work}/${name}
+  mkdir -p "${phase}"
+  candump -L -r 33554432 vcan0 >"${phase}/candump.log" &
+  dump_pid=$!
+  "${cambio}" virtual-rig --config "${rig_file}" "${rig_sets[@]}" "$@" >"${phase}/rig.log" 2>&1 &
+  rig_pid=$!
+  # The drives announce themselves with their boot-up (701#00, 702#00).
+  for _ in $(seq 100); do grep -q '702#00$' "${phase}/candump.log" && break; sleep 0.1; done
+}
+# stop_dump FILE: candump runs behind under emulation; stop it once it has written everything.
+stop_dump() {
+  local before=-1 now
+  now=$(stat -c %s "$1")
+  while [[ ${now} != "${before}" ]]; do
+    before=${now}
+    sleep 1
+    now=$(stat -c %s "$1")
+  done
+  kill -INT "${dump_pid}" 2>/dev/null
+  wait "${dump_pid}" 2>/dev/null
+  dump_pid=
+}
+stop_phase() {
+  kill -CONT "${rig_pid}" 2>/dev/null
+  kill -INT "${rig_pid}" 2>/dev/null
+  wait "${rig_pid}" 2>/dev/null
+  rig_pid=
+  stop_dump "${phase}/candump.log"
+}
+# run_master EXIT_VAR [cambio run arguments...]: `cambio run` in the background; sets master_pid.
+run_master() {
+  "${cambio}" run "${experiment}" "${run_sets[@]}" --out "${phase}/out" "$@" \
+    >"${phase}/run.log" 2>&1 &
+  master_pid=$!
+}
+wait_enabled() {  # Until the master sends "enable operation" (controlword 0x000F) to node 2.
+  for _ in $(seq 600); do grep -q ' 202#0F00' "${phase}/candump.log" && return 0; sleep 0.1; done
+  return 1
+}
+# Frames (ID#DATA) of the COB-IDs only a master sends: NMT, SYNC, RPDOs, SDO requests.
+master_frames() {
+  awk '{print $3}' "$1" | grep -E '^(000|080|2[0-7][0-9A-F]|3[0-7][0-9A-F]|6[0-7][0-9A-F])#'
+}
+# Seconds (float) of the first candump line matching REGEX after line AFTER_LINE (0 = start).
+time_of() {
+  awk -v re="$2" -v after="${3:-0}" 'NR > after && $3 ~ re {gsub(/[()]/, "", $1); print $1; exit}' "$1"
+}
+line_of() { grep -n -E "$2" "$1" | head -1 | cut -d: -f1; }
+json_value() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+
+# --- 1. Configure, enable, hold at 1 kHz, disable: the traffic seen by candump -------------------
+start_phase traffic
+run_master --set experiment.duration_s=10 --can-log "${work}/traffic/master.log"
+wait "${master_pid}"
+status=$?
+stop_phase
+log=${phase}/candump.log
+check "pan-tilt over vcan0 completes (exit 0; got ${status})" test "${status}" -eq 0
+check "NMT reset communication to node 1 (000#8201)" grep -q ' 000#8201$' "${log}"
+check "SDO requests to both nodes and answers (601/602, 581/582)" \
+  sh -c "grep -q ' 601#' '${log}' && grep -q ' 602#' '${log}' && grep -q ' 581#' '${log}' && grep -q ' 582#' '${log}'"
+# TPDO1's COB-ID (0x1800:1) is 0x181 with bit 30 (no RTR); bit 31 marks it invalid while mapping.
+invalid_line=$(line_of "${log}" ' 601#23001801810100C0$')
+valid_line=$(line_of "${log}" ' 601#2300180181010040$')
+check "TPDO1 mapped as CiA 301 says: COB-ID invalidated (line ${invalid_line}), then valid (${valid_line})" \
+  test -n "${invalid_line}" -a -n "${valid_line}" -a "${invalid_line:-0}" -lt "${valid_line:-0}"
+check "NMT start of node 2 (000#0102)" grep -q ' 000#0102$' "${log}"
+check "SYNC (080#), RPDOs (201#, 202#) and TPDOs (181#, 182#) on the bus" \
+  sh -c "grep -q ' 080#$' '${log}' && grep -q ' 201#' '${log}' && grep -q ' 202#' '${log}' && grep -q ' 181#' '${log}'"
+check "drives enabled through shutdown, switch on, enable operation (0x06, 0x07, 0x0F)" \
+  sh -c "grep -q ' 201#0600' '${log}' && grep -q ' 201#0700' '${log}' && grep -q ' 201#0F00' '${log}'"
+last_rpdo=$(grep ' 201#' "${log}" | tail -1 | awk '{print $3}')
+check "the last RPDO to node 1 disables it (controlword 0x0000; got ${last_rpdo})" \
+  test "${last_rpdo:0:8}" = "201#0000"
+check "nodes left pre-operational at the end (000#8001, 000#8002)" \
+  sh -c "grep -q ' 000#8001$' '${log}' && grep -q ' 000#8002$' '${log}'"
+# (Files, not <(...): the guest's /dev has no /dev/fd for process substitution.)
+master_frames "${work}/traffic/master.log" >"${phase}/sent_by_master.txt"
+master_frames "${log}" >"${phase}/sent_seen_by_candump.txt"
+check "the master's --can-log has every frame it sent, in candump's order" \
+  cmp -s "${phase}/sent_by_master.txt" "${phase}/sent_seen_by_candump.txt"
+syncs=$(json_value "${phase}/out/summary.json" "d['can_groups']['pan_tilt']['syncs_sent']")
+# Deactivation adds two SYNCs of its own (after the quick-stop and the disable RPDOs).
+bus_syncs=$(grep -c ' 080#$' "${log}")
+check "summary.json counts the loop's SYNCs (${syncs}); candump saw those + 2 ($(( bus_syncs )))" \
+  test "${bus_syncs}" -eq $((syncs + 2))
+say "pan-tilt 1 kHz for 10 s in the guest: $(json_value "${phase}/out/summary.json" \
+  "', '.join(f'{k} {v}' for k, v in d['can_groups']['pan_tilt'].items())")"
+
+# The CSP cycle as candump's kernel stamps saw it: from each SYNC to the last TPDO answering it.
+python3 - "${log}" <<'PY'
+import statistics, sys
+latencies_us, sync_s, pending = [], None, set()
+for line in open(sys.argv[1]):
+    stamp, _, frame = line.split()
+    t = float(stamp.strip("()"))
+    cob = frame.split("#")[0]
+    if cob == "080":
+        sync_s, pending = t, {"181", "182"}
+    elif sync_s is not None and cob in pending:
+        pending.discard(cob)
+        if not pending:
+            latencies_us.append((t - sync_s) * 1e6)
+            sync_s = None
+if latencies_us:
+    q = statistics.quantiles(latencies_us, n=100)
+    print(f"can_stack_vm_test: SYNC -> all TPDOs (emulated guest, {len(latencies_us)} cycles): "
+          f"p50 {q[49]:.0f} us, p99 {q[98]:.0f} us")
+PY
+
+# --- 2. canplayer replays the master's log --------------------------------------------------------
+mkdir -p "${work}/replay"
+head -n 400 "${work}/traffic/master.log" >"${work}/replay/part.log"
+candump -L -r 33554432 vcan0 >"${work}/replay/candump.log" &
+dump_pid=$!
+sleep 0.3
+canplayer -t -I "${work}/replay/part.log" vcan0=vcan0
+stop_dump "${work}/replay/candump.log"
+awk '{print $3}' "${work}/replay/part.log" >"${work}/replay/played.txt"
+awk '{print $3}' "${work}/replay/candump.log" >"${work}/replay/seen.txt"
+check "canplayer replays the master's log frame for frame" \
+  cmp -s "${work}/replay/played.txt" "${work}/replay/seen.txt"
+
+# --- 3. A following-error fault in node 1 while enabled ----------------------------------------
+start_phase following_error --fault following-error,node=1,after_enable_s=0.5
+run_master --set experiment.duration_s=4
+wait "${master_pid}"
+status=$?
+stop_phase
+log=${phase}/candump.log
+check "a drive fault stops the run with exit 3 (got ${status})" test "${status}" -eq 3
+check "summary.json says device_fault" \
+  test "$(json_value "${phase}/out/summary.json" "d['outcome']")" = device_fault
+emcy_line=$(line_of "${log}" ' 081#1186')
+check "node 1 sent EMCY 0x8611 (following error)" test -n "${emcy_line}"
+if [[ -n ${emcy_line} ]]; then
+  t_fault=$(time_of "${log}" '^081#1186')
+  t_stop=$(time_of "${log}" '^202#0200' "${emcy_line}")
+  check "node 2 quick-stopped after node 1's fault, within 3 heartbeat periods (${t_fault} -> ${t_stop})" \
+    python3 -c "import sys; sys.exit(0 if '${t_stop}' and float('${t_stop}') - float('${t_fault}') <= 0.3 else 1)"
+  stop_line=$(tail -n +"${emcy_line}" "${log}" | grep -n ' 202#0200' | head -1 | cut -d: -f1)
+  check "no enable-operation RPDO to node 2 once it was quick-stopped (no motion)" \
+    sh -c "test -n '${stop_line}' && ! tail -n +$((emcy_line + ${stop_line:-0})) '${log}' | grep -q ' 202#0F00'"
+fi
+
+# --- 4. Heartbeat loss: the drives' process freezes -------------------------------------------------
+start_phase heartbeat_loss
+run_master --set experiment.duration_s=6
+if wait_enabled; then
+  sleep 1
+  kill -STOP "${rig_pid}"
+  t_frozen=$(python3 -c 'import time; print(time.time())')
+fi
+wait "${master_pid}"
+status=$?
+stop_phase
+log=${phase}/candump.log
+check "a lost drive stops the run with exit 3 (got ${status})" test "${status}" -eq 3
+if [[ -n ${t_frozen:-} ]]; then
+  last_heartbeat=$(awk -v t="${t_frozen}" '$3 ~ /^70[12]#/ {s = substr($1, 2, length($1) - 2) + 0; if (s <= t + 0.05) last = s} END {printf "%.6f", last}' "${log}")
+  t_react=$(awk -v t="${last_heartbeat}" '$3 ~ /^20[12]#0[02]00/ {s = substr($1, 2, length($1) - 2) + 0; if (s > t) {printf "%.6f", s; exit}}' "${log}")
+  check "comm loss latched within 3 heartbeat periods + one cycle (last heartbeat ${last_heartbeat}, hold ${t_react})" \
+    python3 -c "import sys; sys.exit(0 if '${t_react}' and float('${t_react}') - float('${last_heartbeat}') <= 0.35 else 1)"
+fi
+
+# --- 5. cansend as the peer: an EMCY (counted, reported) and a boot-up (a drive rebooted) --------
+start_phase cansend
+run_master --set experiment.duration_s=6
+if wait_enabled; then
+  cansend vcan0 081#0073010000000000  # EMCY 0x7300 (sensor), no fault in the statusword
+  sleep 1
+  cansend vcan0 702#00  # Node 2 announces a boot-up: it rebooted and lost its configuration.
+fi
+wait "${master_pid}"
+status=$?
+stop_phase
+check "a rebooted drive (boot-up from cansend) stops the run with exit 3 (got ${status})" \
+  test "${status}" -eq 3
+check "the EMCY from cansend is counted in summary.json" \
+  test "$(json_value "${phase}/out/summary.json" "d['can_groups']['pan_tilt']['emergencies']")" -ge 1
+
+# --- 6. SIGINT: every drive disabled, nodes left pre-operational ----------------------------------
+start_phase sigint
+run_master --set experiment.duration_s=60
+if wait_enabled; then
+  sleep 1
+  kill -INT "${master_pid}"
+  signal_line=$(wc -l <"${phase}/candump.log")
+fi
+wait "${master_pid}"
+status=$?
+stop_phase
+log=${phase}/candump.log
+check "SIGINT stops the run with exit 130 (got ${status})" test "${status}" -eq 130
+for node in 1 2; do
+  last=$(grep " 20${node}#" "${log}" | tail -1 | awk '{print $3}')
+  check "node ${node}'s last controlword is disable voltage (${last})" test "${last:0:8}" = "20${node}#0000"
+  check "node ${node} sent to pre-operational after SIGINT (000#800${node})" \
+    sh -c "tail -n +${signal_line:-1} '${log}' | grep -q ' 000#800${node}$'"
+done
+preop_line=$(tail -n +"${signal_line:-1}" "${log}" | grep -n ' 000#800[12]$' | head -1 | cut -d: -f1)
+check "no SYNC once the nodes are pre-operational" \
+  sh -c "test -n '${preop_line}' && ! tail -n +$(( ${signal_line:-1} + ${preop_line:-0} )) '${log}' | grep -q ' 080#$'"
+
+if [[ ${failures} -ne 0 ]]; then
+  say "${failures} check(s) failed; logs in ${work}"
+  for f in "${work}"/*/run.log "${work}"/*/rig.log; do echo "--- ${f}"; tail -n 15 "${f}"; done
+  exit 1
+fi
+say "all checks passed"
+rm -rf "${work}"

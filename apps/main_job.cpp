@@ -107,6 +107,8 @@ void MainJob::build_loops() {
   }
   for (const auto& plan : plans) {
     control::JointLoopParams params = joint_loop_params(rig);
+    params.fault_recovery_delay_s = experiment_.fault_recovery.after_s;
+    params.max_fault_recoveries = experiment_.fault_recovery.max_recoveries;
     params.name = plan.name;
     params.target_count = static_cast<int>(joint_order_.size());
     if (plans.size() > 1) params.rig_hold = &rig_hold_;
@@ -206,6 +208,7 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   for (const auto& joint_loop : joint_loops_) {
     result.watchdog_cycles += joint_loop.loop->stale_cycles();
     result.fault_hold_cycles += joint_loop.loop->fault_hold_cycles();
+    result.fault_recoveries += joint_loop.loop->fault_recoveries();
     control::JointStateFrame states;
     if (joint_loop.states->read(states)) result.fault_latched_at_end |= states.fault_latched;
   }

@@ -39,6 +39,7 @@ struct MainJobResult {
   /// Summed over the joint loops (one per group rate):
   std::uint64_t watchdog_cycles = 0;    ///< Joint loop held: targets stale.
   std::uint64_t fault_hold_cycles = 0;  ///< Joint loop held: fault latched or feedback stale.
+  std::uint64_t fault_recoveries = 0;   ///< Fault resets asked by experiment.fault_recovery.
   bool fault_latched_at_end = false;
   bool stopped_by_signal = false;
   double simulated_s = 0.0;

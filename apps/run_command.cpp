@@ -44,7 +44,8 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
   json["camera_frames"] = result.camera_frames;
   json["stereo_pairs"] = result.stereo_pairs;
   json["mismatched_stereo_pairs"] = result.mismatched_stereo_pairs;
-  json["joint_loop"] = {{"watchdog_hold_cycles", result.watchdog_cycles},
+  json["joint_loop"] = {{"fault_recoveries", result.fault_recoveries},
+                        {"watchdog_hold_cycles", result.watchdog_cycles},
                         {"fault_hold_cycles", result.fault_hold_cycles},
                         {"fault_latched_at_end", result.fault_latched_at_end}};
   if (result.perception) {
@@ -173,7 +174,11 @@ int run_run_command(std::span<const std::string> args) {
             << " stereo pairs, " << result.mismatched_stereo_pairs
             << " refused for mismatched stamps)"
             << ", joint-loop watchdog holds: " << result.watchdog_cycles
-            << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles\n";
+            << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles"
+            << (result.fault_recoveries > 0
+                    ? ", fault recoveries: " + std::to_string(result.fault_recoveries)
+                    : "")
+            << "\n";
   for (const auto& report : result.can_groups) {
     const auto& c = report.counters;
     std::cout << "CAN group " << report.group << ": " << c.syncs_sent << " SYNCs, "

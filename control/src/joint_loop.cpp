@@ -89,6 +89,7 @@ void JointLoop::activate() {
   if (params_.rig_hold != nullptr) params_.rig_hold->set(rig_hold_slot_, false);
   reset_requested_ = false;
   enable_after_reset_ = false;
+  fault_latched_since_ns_ = -1;
   if (params_.enable_on_activate) forward(hal::DriveRequest::kEnable);
 }
 
@@ -98,6 +99,26 @@ void JointLoop::deactivate() noexcept {
 
 void JointLoop::request(hal::DriveRequest request) noexcept {
   pending_requests_.fetch_or(bit_of(request), std::memory_order_acq_rel);
+}
+
+void JointLoop::recover_if_asked(bool fault_latched, std::int64_t now_ns) noexcept {
+  if (!fault_latched) {
+    fault_latched_since_ns_ = -1;
+    return;
+  }
+  if (fault_latched_since_ns_ < 0) fault_latched_since_ns_ = now_ns;
+  const auto delay_ns = static_cast<std::int64_t>(params_.fault_recovery_delay_s * 1e9);
+  if (reset_requested_ ||
+      fault_recoveries_.load(std::memory_order_relaxed) >=
+          static_cast<std::uint64_t>(std::max(params_.max_fault_recoveries, 0)) ||
+      now_ns - fault_latched_since_ns_ < delay_ns) {
+    return;
+  }
+  // As an operator would: reset, then enable once every drive is out of its fault; each joint
+  // is enabled where it stands (step 3), so recovery never jumps to the target held before.
+  apply_requests(bit_of(hal::DriveRequest::kFaultReset) | bit_of(hal::DriveRequest::kEnable));
+  fault_recoveries_.fetch_add(1, std::memory_order_relaxed);
+  fault_latched_since_ns_ = now_ns;
 }
 
 void JointLoop::forward(hal::DriveRequest request) noexcept {
@@ -182,6 +203,7 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
     holding = holding || params_.rig_hold->others_holding(rig_hold_slot_);
   }
   if (fault_latched) result = hal::worst(result, hal::Status::kFault);
+  recover_if_asked(fault_latched, tick.now_ns);
   if (feedback_stale) {
     result = hal::worst(result, hal::Status::kStale);
     feedback_stale_cycles_.fetch_add(1, std::memory_order_relaxed);

@@ -56,6 +56,13 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   config.task = experiment.choice_or("task", {"hold", "vergence"}, "hold") == "vergence"
                     ? ControlTask::kVergence
                     : ControlTask::kHold;
+  if (auto recovery = experiment.optional_map("fault_recovery")) {
+    FaultRecoveryConfig& r = config.fault_recovery;
+    r.after_s = recovery->number_or("after_s", r.after_s, Range::closed(0.0, 3600.0));
+    r.max_recoveries = static_cast<int>(
+        recovery->integer_or("max_recoveries", r.max_recoveries, Range::closed(0, 1000)));
+    recovery->finish();
+  }
   if (auto vergence = experiment.optional_map("vergence")) {
     // Keys left out keep VergenceTaskConfig's member initialisers, the one place of the defaults.
     VergenceTaskConfig& v = config.vergence;

@@ -187,6 +187,24 @@ if [[ -n ${emcy_line} ]]; then
     sh -c "test -n '${stop_line}' && ! tail -n +$((emcy_line + ${stop_line:-0})) '${log}' | grep -q ' 202#0F00'"
 fi
 
+# --- 3b. The same fault with the experiment asking for recovery: reset, re-enable, no restart ---
+start_phase recovery --fault following-error,node=1,after_enable_s=0.5
+run_master --set experiment.duration_s=4 --set experiment.fault_recovery.after_s=0.3 \
+  --set experiment.fault_recovery.max_recoveries=1
+wait "${master_pid}"
+status=$?
+stop_phase
+log=${phase}/candump.log
+check "with fault_recovery the run recovers and completes (exit 0; got ${status})" \
+  test "${status}" -eq 0
+check "summary.json counts one recovery" \
+  test "$(json_value "${phase}/out/summary.json" "d['joint_loop']['fault_recoveries']")" -eq 1
+emcy_line=$(line_of "${log}" ' 081#1186')
+if [[ -n ${emcy_line} ]]; then
+  check "node 1 reset (EMCY 0x0000) and re-enabled (201#0F00) after its fault" \
+    sh -c "tail -n +${emcy_line} '${log}' | grep -q ' 081#0000' && tail -n +${emcy_line} '${log}' | grep -q ' 201#0F00'"
+fi
+
 # --- 4. Heartbeat loss: the drives' process freezes -------------------------------------------------
 start_phase heartbeat_loss
 run_master --set experiment.duration_s=6

@@ -8,8 +8,8 @@
 #
 # The guest boots Debian's stock kernel (downloaded with apt-get download, never installed) with a
 # busybox initramfs, sees the host's root read-only over 9p, and runs COMMAND chrooted into it, in
-# the current directory, as root. Shared read-write at the same paths: the current directory, the
-# build directory (${CAMBIO_BUILD_DIR:-<repo>/build}) and every path listed in CAN_VM_SHARE
+# the current directory, as root. Shared read-write at the same paths: the current directory, this
+# source tree, the build directory (${CAMBIO_BUILD_DIR:-<repo>/build}) and every path listed in CAN_VM_SHARE
 # (colon-separated). /tmp, /run, /var/tmp and /dev/shm are fresh tmpfs in the guest.
 #
 # Environment passed into the guest: PATH, HOME, LANG, LC_*, TERM, TZ, GTEST_*, CAMBIO_*,
@@ -287,7 +287,9 @@ trap cleanup EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM
 
-# Shared read-write at the same paths: the current directory, the build directory, CAN_VM_SHARE.
+# Shared read-write at the same paths: the current directory, the source tree (its scripts and
+# firmware_config: the host's root is shared too, but a tree under /tmp would be hidden by the
+# guest's own /tmp), the build directory, CAN_VM_SHARE.
 # Sorted so a parent is mounted before a child; a path inside another share is already there.
 cwd=$(pwd -P)
 shares=()
@@ -299,7 +301,7 @@ while IFS= read -r path; do
     [[ ${path} == "${share}" || ${path} == "${share}"/* ]] && covered=1
   done
   [[ ${covered} == 0 ]] && shares+=("${path}")
-done < <(for path in "${cwd}" "${build_dir}" "${extra_shares[@]}"; do
+done < <(for path in "${cwd}" "${repo_dir}" "${build_dir}" "${extra_shares[@]}"; do
   [[ -n ${path} ]] && (cd -- "${path}" 2>/dev/null && pwd -P)
 done | awk '{ print length($0) "\t" $0 }' | sort -n -k1,1 | cut -f2-)
 virtfs=()

@@ -308,6 +308,54 @@ TEST(JointLoop, AFaultLatchesHoldsEveryJointUntilResetThenReenablesAtTheMeasured
   EXPECT_LT(f.group.position[0], at_fault[0]) << "motion resumed";
 }
 
+// experiment.fault_recovery: after holding fault_recovery_delay_s the loop itself asks a reset and
+// an enable, at most max_fault_recoveries times; without it (the default) a fault holds for good.
+TEST(JointLoop, RecoversByItselfAfterTheDelayAtMostTheAllowedNumberOfTimes) {
+  JointLoopParams params = kParams;
+  params.fault_recovery_delay_s = 0.05;  // 50 cycles at 1 kHz.
+  params.max_fault_recoveries = 1;
+  FakeJointGroup group;
+  group.requests.reserve(64);
+  hal::SeqlockChannel<JointTargetFrame> targets;
+  hal::SeqlockChannel<JointStateFrame> states;
+  JointLoop loop({&group}, targets, states, params);
+  loop.configure();
+  loop.activate();
+  auto step = [&](std::uint64_t cycle) {
+    const auto t = static_cast<std::int64_t>(cycle) * 1'000'000;
+    group.now_ns = t;
+    JointTargetFrame frame;
+    frame.stamp_ns = t;
+    frame.count = 2;
+    frame.commands[0] = {hal::CommandMode::kPosition, 0.0};
+    frame.commands[1] = {hal::CommandMode::kPosition, 0.0};
+    targets.write(frame);
+    return loop.update({cycle, t, t, 1e-3});
+  };
+  for (std::uint64_t k = 0; k < 10; ++k) ASSERT_EQ(step(k), hal::Status::kOk);
+  group.fault(1, 0x8611);
+  const std::size_t requests_before = group.requests.size();
+  for (std::uint64_t k = 10; k < 59; ++k) ASSERT_EQ(step(k), hal::Status::kFault) << k;
+  EXPECT_EQ(group.requests.size(), requests_before) << "nothing asked before the delay";
+  EXPECT_EQ(loop.fault_recoveries(), 0u);
+  std::uint64_t k = 59;
+  for (; k < 80 && loop.fault_recoveries() == 0; ++k) (void)step(k);
+  EXPECT_EQ(k - 1, 60u) << "asked once the latch had lasted 50 ms";
+  ASSERT_GE(group.requests.size(), requests_before + 1);
+  EXPECT_EQ(group.requests[requests_before], hal::DriveRequest::kFaultReset);
+  for (; k < 100; ++k) (void)step(k);
+  EXPECT_EQ(group.requests.back(), hal::DriveRequest::kEnable) << "enable once out of the fault";
+  EXPECT_FALSE(loop.update({100, 100'000'000, 100'000'000, 1e-3}) == hal::Status::kFault);
+  EXPECT_EQ(group.drive[1], hal::DriveState::kOperationEnabled);
+
+  // The allowed recovery is spent: a second fault holds to the end.
+  group.fault(0, 0x7300);
+  const std::size_t requests_after = group.requests.size();
+  for (k = 101; k < 400; ++k) ASSERT_EQ(step(k), hal::Status::kFault);
+  EXPECT_EQ(group.requests.size(), requests_after);
+  EXPECT_EQ(loop.fault_recoveries(), 1u);
+}
+
 TEST(JointLoop, StaleFeedbackHoldsWithoutLatching) {
   Fixture f;
   f.drive(0.2, 0.2, 0, 9);

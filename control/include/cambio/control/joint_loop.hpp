@@ -31,6 +31,11 @@ struct JointLoopParams {
   /// Shared with the rig's other joint loops, so that all hold while one does; null when this
   /// loop drives the whole rig.
   RigHold* rig_hold = nullptr;
+  /// Recovery from a latched fault without restarting: after holding this long, the loop asks
+  /// every drive for a fault reset and then enable (at the measured positions), at most
+  /// `max_fault_recoveries` times per run. 0 recoveries (the default): a fault holds to the end.
+  double fault_recovery_delay_s = 0.5;
+  int max_fault_recoveries = 0;
 };
 
 /// The fast loop next to the hardware (1 kHz by default). Each cycle, in this order:
@@ -71,6 +76,10 @@ class JointLoop final : public hal::Loop {
   int joint_count() const { return joint_count_; }
   /// Cycles in which the watchdog held the joints because targets were stale.
   std::uint64_t stale_cycles() const { return stale_cycles_.load(std::memory_order_relaxed); }
+  /// Fault resets the loop asked by itself (JointLoopParams::max_fault_recoveries).
+  std::uint64_t fault_recoveries() const {
+    return fault_recoveries_.load(std::memory_order_relaxed);
+  }
   /// Cycles held because a fault or lost joint was latched, or feedback was stale.
   std::uint64_t fault_hold_cycles() const {
     return fault_hold_cycles_.load(std::memory_order_relaxed);
@@ -83,6 +92,9 @@ class JointLoop final : public hal::Loop {
   void apply_requests(std::uint32_t pending) noexcept;
   hal::Status read_groups(std::int64_t now_ns) noexcept;
   void forward(hal::DriveRequest request) noexcept;
+  /// Asks a fault reset and enable when a latch has lasted fault_recovery_delay_s (and
+  /// recoveries remain).
+  void recover_if_asked(bool fault_latched, std::int64_t now_ns) noexcept;
 
   std::string name_;
   std::vector<hal::JointGroup*> groups_;
@@ -104,6 +116,8 @@ class JointLoop final : public hal::Loop {
   bool enable_after_reset_ = false;  // Then ask them to enable.
   std::atomic<std::uint64_t> stale_cycles_{0};
   std::atomic<std::uint64_t> fault_hold_cycles_{0};
+  std::atomic<std::uint64_t> fault_recoveries_{0};
+  std::int64_t fault_latched_since_ns_ = -1;  // When the current latch began; -1: none.
   std::atomic<std::uint64_t> feedback_stale_cycles_{0};
 };
 

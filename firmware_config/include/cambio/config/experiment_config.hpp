@@ -33,6 +33,14 @@ struct VergenceTaskConfig {
   double goal_disparity_px = 1.0;
 };
 
+/// What the run does when a drive fault or a lost drive is latched (`fault_recovery:`): by
+/// default it holds to the end and exits 3; with recoveries, after holding `after_s` it asks a
+/// fault reset and re-enables the drives where they stand, at most `max_recoveries` times.
+struct FaultRecoveryConfig {
+  double after_s = 0.5;
+  int max_recoveries = 0;
+};
+
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.
 struct ExperimentConfig {
   std::string source_file;
@@ -46,6 +54,7 @@ struct ExperimentConfig {
   std::string perception_path;
   ControlTask task = ControlTask::kHold;
   VergenceTaskConfig vergence;
+  FaultRecoveryConfig fault_recovery;
   /// The loaded rig, overrides from the command line applied, and the experiment's
   /// `initial_pose` (joint name -> `<joint>_deg` or `<joint>_rad`) written into each joint's
   /// initial_position_rad.

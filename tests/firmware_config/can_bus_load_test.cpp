@@ -153,7 +153,8 @@ TEST(GroupKeys, RateAndCanSettingsReachTheHardwareDescription) {
 TEST(GroupKeys, DefaultsAreTheHalsAndTheRigWideRate) {
   const RigConfig rig =
       load_rig_from_string(test::small_rig() + "loops:\n  joint: {rate_hz: 300}\n", "t");
-  const hal::JointGroupInfo& head = *hardware_description(rig).find_group("head");
+  const hal::HardwareInfo hardware = hardware_description(rig);
+  const hal::JointGroupInfo& head = *hardware.find_group("head");
   const hal::CanGroupSettings defaults;
   EXPECT_EQ(head.rate_hz, 300.0);
   EXPECT_EQ(head.can.heartbeat_period_s, defaults.heartbeat_period_s);

@@ -3,8 +3,8 @@
 #
 # Runs COMMAND inside a throwaway QEMU guest that has a kernel CAN stack (this host's kernel may
 # not: socket(PF_CAN) fails with EAFNOSUPPORT), with vcan0 (CAN FD, mtu 72) and vcan1 (classic,
-# mtu 16) up, and exits with COMMAND's exit status. See ../shared/CAN_VM.md and the README's
-# "Run on CAN" for why it is built this way.
+# mtu 16) up, and exits with COMMAND's exit status. The README's "Run on CAN" shows its use; the
+# comments below say why each choice was made (software emulation, the CPU model, the 9p root).
 #
 # The guest boots Debian's stock kernel (downloaded with apt-get download, never installed) with a
 # busybox initramfs, sees the host's root read-only over 9p, and runs COMMAND chrooted into it, in

@@ -331,6 +331,11 @@ mkfifo -- "${ctl}/stderr.out" "${ctl}/stderr.in"
 cat -- "${ctl}/stderr.out" >&2 &
 stderr_pump=$!
 
+# Why these settings: /dev/kvm on such hosts is paravirtual (no vmx) and a stock kernel does not
+# boot under it, so the guest is emulated (TCG). -cpu max crashes Mesa's llvmpipe in the guest
+# (QEMU 7.2's emulation of the AVX2 gather it JIT-compiles faults); without AVX2 the rendered
+# images stay identical to the host's. The host root is shared read-only over 9p so the guest
+# runs this machine's own binaries and libraries; nothing is installed into an image.
 started_ns=$(date +%s%N)
 timeout --kill-after=10 "${timeout_s}" "${qemu}" \
   -accel "${accel}" -cpu max,-avx2 -smp "${cpus}" -m "${memory_mb}" \

@@ -2,6 +2,8 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_config.hpp"
+#include "cambio/control/command_script.hpp"
+#include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/vergence_controller.hpp"
 #include "cambio/hal/hardware_info.hpp"
@@ -26,5 +28,13 @@ control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
 /// length. Throws std::runtime_error if the rig has no stereo pair.
 control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
                                         const hal::HardwareInfo& hardware);
+
+/// The gaze loop of a `task: gaze` experiment: its `gaze:` settings, the verging camera's focal
+/// length. Throws std::runtime_error if the rig has no stereo pair.
+control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
+                                         const hal::HardwareInfo& hardware);
+
+/// The experiment's `commands:` as the command script's timeline.
+std::vector<control::CommandScript::Entry> command_script(const config::ExperimentConfig& experiment);
 
 }  // namespace cambio::app

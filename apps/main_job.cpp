@@ -120,6 +120,7 @@ void MainJob::build_loops() {
       }
     }
     JointLoopSlot slot;
+    slot.rig_indices = params.target_indices;
     slot.states = std::make_unique<hal::SeqlockChannel<control::JointStateFrame>>();
     slot.loop = std::make_unique<control::JointLoop>(std::move(loop_groups), targets_, *slot.states,
                                                      std::move(params));
@@ -161,6 +162,19 @@ void MainJob::build_loops() {
         joint_index(dominant.parent_frame), perception_loop_->summaries(), targets_);
     vergence_loop_ = loop.get();
     control_loop_ = std::move(loop);
+  } else if (experiment_.task == config::ControlTask::kGaze) {
+    if (!perception_loop_) throw std::runtime_error("the gaze task needs a stereo rig");
+    std::vector<control::BelievedJoints::Source> sources;
+    for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
+    auto loop = std::make_unique<control::GazeLoop>(
+        hardware_, gaze_loop_params(experiment_, hardware_), pose,
+        control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
+        perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
+    gaze_loop_ = loop.get();
+    control_loop_ = std::move(loop);
+    // The script runs at the control rate, before the gaze loop in each lockstep tick.
+    script_ = std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_);
+    executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
   } else {
     control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
   }
@@ -220,6 +234,17 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   if (vergence_loop_ != nullptr) {
     control::VergenceStatus status;
     if (vergence_loop_->status().read(status)) result.vergence = status;
+  }
+  if (gaze_loop_ != nullptr) {
+    control::GazeStatus status;
+    if (gaze_loop_->status().read(status)) result.gaze = status;
+    result.gaze_rejected_commands = gaze_loop_->rejected_commands();
+    result.gaze_corrections = gaze_loop_->corrections();
+    result.gaze_measurements = gaze_loop_->measurements();
+    for (const std::int64_t sent_ns : script_->sent_ns()) {
+      result.command_sent_s.push_back(
+          sent_ns < 0 ? -1.0 : static_cast<double>(sent_ns - script_->start_ns()) * 1e-9);
+    }
   }
   if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
     const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);

@@ -10,6 +10,8 @@
 
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/experiment_config.hpp"
+#include "cambio/control/command_script.hpp"
+#include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/rig_hold.hpp"
 #include "cambio/control/vergence_loop.hpp"
@@ -46,6 +48,12 @@ struct MainJobResult {
   double wall_s = 0.0;
   std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
   std::optional<control::VergenceStatus> vergence;   ///< If the task was vergence.
+  std::optional<control::GazeStatus> gaze;           ///< If the task was gaze: the last status.
+  std::uint64_t gaze_rejected_commands = 0;
+  std::uint64_t gaze_corrections = 0;
+  std::uint64_t gaze_measurements = 0;
+  /// The scripted commands' send times (s from the script's start; -1: not sent).
+  std::vector<double> command_sent_s;
   std::vector<CanGroupReport> can_groups;            ///< One per socketcan group.
 };
 
@@ -100,6 +108,7 @@ class MainJob {
   /// A joint loop and the states it publishes (its own joints, in its groups' order).
   struct JointLoopSlot {
     std::unique_ptr<hal::SeqlockChannel<control::JointStateFrame>> states;
+    std::vector<int> rig_indices;  // Where its joints sit in rig order.
     std::unique_ptr<control::JointLoop> loop;
   };
 
@@ -108,6 +117,9 @@ class MainJob {
   std::vector<JointLoopSlot> joint_loops_;
   std::unique_ptr<hal::Loop> control_loop_;
   control::VergenceLoop* vergence_loop_ = nullptr;  // control_loop_ when the task is vergence.
+  control::GazeLoop* gaze_loop_ = nullptr;          // control_loop_ when the task is gaze.
+  hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
+  std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
 };

@@ -53,7 +53,7 @@ case "$mode" in
   build) ;;
   run)
     if [ $# -eq 0 ]; then
-      set -- "$root/firmware_config/experiments/sim_default.yaml" --out "$root/out"
+      set -- "$root/firmware_config/experiments/vergence_sphere.yaml" --out "$root/out"
     fi
     "$build_dir/bin/cambio" run "$@"
     ;;

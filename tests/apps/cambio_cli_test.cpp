@@ -164,7 +164,7 @@ TEST(CambioCli, RunRefusesAMissingExperiment) {
 // interface is absent or nothing answers on it): a device fault, exit 3, naming the bus.
 TEST(CambioCli, RunOnCanWithoutItsBusIsADeviceFault) {
   const auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set rig.groups.head.backend=socketcan "
+      "run firmware_config/experiments/vergence_sphere.yaml --set rig.groups.head.backend=socketcan "
       "--set rig.can_buses.can0.interface=cambio_absent0");
   EXPECT_EQ(result.exit_code, 3) << result.output;
   EXPECT_TRUE(contains(result.output, "cambio_absent0")) << result.output;
@@ -174,7 +174,7 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_run";
   std::filesystem::remove_all(out_dir);
   const auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set experiment.duration_s=0.5 "
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=0.5 "
       "--set experiment.task=hold --out '" +
       out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -195,7 +195,7 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
 TEST(CambioCli, TheSimDefaultVergesOnTheTexturedSphere) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_vergence";
   std::filesystem::remove_all(out_dir);
-  const auto result = run_cambio("run firmware_config/experiments/sim_default.yaml --out '" +
+  const auto result = run_cambio("run firmware_config/experiments/vergence_sphere.yaml --out '" +
                                  out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "): verged")) << result.output;
@@ -220,7 +220,7 @@ TEST(CambioCli, TheSimDefaultVergesOnTheTexturedSphere) {
 
 TEST(CambioCli, RunReportsExperimentMistakesWithTheirLine) {
   const auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set experiment.task=verge "
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.task=verge "
       "--set experiment.initial_pose.left_eye_pam_deg=3");
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_TRUE(contains(result.output, "experiment.task")) << result.output;

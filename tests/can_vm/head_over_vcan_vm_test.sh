@@ -23,7 +23,7 @@ for eye in left_eye right_eye; do
   camera_sets+=(--set "rig.cameras.${eye}.width_px=320" --set "rig.cameras.${eye}.height_px=240"
     --set "rig.cameras.${eye}.focal_px=277.128" --set "rig.cameras.${eye}.principal_point_px=[159.5,119.5]")
 done
-"${cambio}" run "${repo}/firmware_config/experiments/sim_default.yaml" \
+"${cambio}" run "${repo}/firmware_config/experiments/vergence_sphere.yaml" \
   --set rig.groups.head.backend=socketcan --set rig.can_buses.can0.interface=vcan0 \
   "${camera_sets[@]}" \
   --set rig.loops.joint.rate_hz=100 --set rig.loops.control.rate_hz=50 \

@@ -129,12 +129,12 @@ const SceneObjectConfig* find_scene_object(MapReader& map, std::string_view key,
   if (const SceneObjectConfig* object = scene.scene->find_object(name)) return object;
   std::vector<std::string> names;
   for (const auto& object : scene.scene->objects) names.push_back(object.name);
-  std::string message = "unknown object " + in_quotes(name) + " in scene " +
-                        in_quotes(scene.scene->name) + " (" + scene.scene->source_file + ")";
+  std::string message = "unknown object " + in_quotes(name) + " (scene " +
+                        in_quotes(scene.scene->name) + " in " + scene.scene->source_file +
+                        (names.empty() ? " has no objects)" : " has " + join(names) + ")");
   if (const auto suggestion = closest_name(name, names)) {
     message += "; did you mean " + in_quotes(*suggestion) + "?";
   }
-  message += names.empty() ? "; the scene has no objects" : "; the scene has " + join(names);
   map.error(key, message);
   return nullptr;
 }

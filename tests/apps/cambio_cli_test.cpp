@@ -174,8 +174,7 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_run";
   std::filesystem::remove_all(out_dir);
   const auto result = run_cambio(
-      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=0.5 "
-      "--set experiment.task=hold --out '" +
+      "run tests/apps/data/sim_hold.yaml --out '" +
       out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "joint")) << result.output;

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 using testing::run_cambio;
 
 const std::string kQuickRun =
-    "run firmware_config/experiments/vergence_sphere.yaml --set experiment.task=hold "
+    "run tests/apps/data/sim_hold.yaml "
     "--set experiment.duration_s=0.2 ";
 
 bool contains(const std::string& text, const std::string& part) {
@@ -154,7 +154,7 @@ testing::CommandResult interrupt_run(const std::string& signal, const fs::path& 
   // A log left by an earlier run would say "started" before this one has installed its handlers.
   fs::remove(log);
   return run_in_shell(
-      "\"$CAMBIO\" run firmware_config/experiments/vergence_sphere.yaml --set experiment.task=hold "
+      "\"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
       "--set experiment.duration_s=60 --out '" +
       out.string() + "' 2>'" + log.string() + "' & pid=$!; until grep -q 'executor' '" +
       log.string() + "' 2>/dev/null; do sleep 0.05; done; sleep 0.5; kill -" + signal +

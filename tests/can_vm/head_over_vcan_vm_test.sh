@@ -29,6 +29,7 @@ done
   --set rig.loops.joint.rate_hz=100 --set rig.loops.control.rate_hz=50 \
   --set rig.loops.perception.rate_hz=5 --set rig.loops.camera.rate_hz=5 \
   --set rig.sim.physics_rate_hz=200 --set experiment.duration_s=40 \
+  --set experiment.goals.settle_time_s.max=30 \
   --out "${work}/out" >"${work}/run.log" 2>&1
 status=$?
 kill -INT "${rig_pid}"

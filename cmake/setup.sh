@@ -23,6 +23,7 @@ packages=(
   libmujoco-dev libqhull-dev
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   libopencv-dev
+  libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format
 )

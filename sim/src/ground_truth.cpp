@@ -99,12 +99,18 @@ RayHit GroundTruth::cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& 
     throw std::invalid_argument("a ray needs a finite origin and a non-zero, finite direction");
   }
   int exclude_body = -1;
+  int exclude_geom = -1;
   if (!ignore_object.empty()) {
     for (const auto& object : world_.objects()) {
       if (object.name == ignore_object) exclude_body = object.body_id;
     }
     if (exclude_body < 0) {
-      throw std::out_of_range("no object named '" + std::string(ignore_object) + "' in the scene");
+      // Scene geometry that is no object (the floor), as RayHit::object names it.
+      const std::string name(ignore_object);
+      exclude_geom = mj_name2id(world_.model(), mjOBJ_GEOM, name.c_str());
+      if (exclude_geom < 0 || world_.model()->geom_group[exclude_geom] != kSceneGeomGroup) {
+        throw std::out_of_range("no object named '" + name + "' in the scene");
+      }
     }
   }
   const Eigen::Vector3d unit = direction_W / length;
@@ -118,7 +124,10 @@ RayHit GroundTruth::cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& 
   int geom = -1;
   double distance = -1.0;
   for (int i = 0; i < model->ngeom; ++i) {
-    if (model->geom_group[i] != kSceneGeomGroup || model->geom_bodyid[i] == exclude_body) continue;
+    if (model->geom_group[i] != kSceneGeomGroup || model->geom_bodyid[i] == exclude_body ||
+        i == exclude_geom) {
+      continue;
+    }
     double d = -1.0;
     switch (model->geom_type[i]) {
       case mjGEOM_MESH:

@@ -78,6 +78,9 @@ TEST_F(GroundTruthRayTest, NamesTheFloorAndReportsAMiss) {
   EXPECT_EQ(floor.object, "floor");
   EXPECT_NEAR(floor.distance_m, 1.4 * std::sqrt(2.0), 1e-9);
   EXPECT_NEAR(floor.p_W.z(), 0.0, 1e-9);
+  EXPECT_FALSE(
+      truth_.cast_ray(Eigen::Vector3d(0.0, -1.0, 1.4), Eigen::Vector3d(0.0, -1.0, -1.0), "floor")
+          .hit);
   const RayHit sky = truth_.cast_ray(Eigen::Vector3d(0.0, 0.0, 1.4), Eigen::Vector3d::UnitZ());
   EXPECT_FALSE(sky.hit) << sky.object << " at " << sky.distance_m;
   EXPECT_TRUE(sky.object.empty());

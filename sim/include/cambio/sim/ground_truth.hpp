@@ -56,7 +56,8 @@ class GroundTruth {
   /// The first scene surface (objects, the floor) a ray from `p_W` along `direction_W` (any
   /// non-zero length) meets. The robot's own bodies (arms, torso, head) and the eyes' sky planes
   /// are not scene: an eye looking at an object "through" the robot's hand sees the object.
-  /// `ignore_object` names a scene object the ray passes through (empty: none). Throws
+  /// `ignore_object` names a scene object (or scene geometry, as RayHit::object names it) the
+  /// ray passes through (empty: none). Throws
   /// std::invalid_argument for a zero or non-finite direction, std::out_of_range for an unknown
   /// `ignore_object`.
   RayHit cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& direction_W,

@@ -24,6 +24,7 @@ packages=(
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libplplot-dev plplot-driver-cairo
   clang-format
 )
 

@@ -25,6 +25,7 @@ packages=(
   libopencv-dev
   libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libplplot-dev plplot-driver-cairo
   clang-format
 )
 

@@ -1,5 +1,6 @@
 #include "main_job.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -10,6 +11,7 @@
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
 
 namespace cambio::app {
@@ -180,6 +182,7 @@ void MainJob::build_loops() {
   }
 
   executor_->add_loop({control_loop_.get(), loop_schedule(rig, "control")});
+  build_trace();
   executor_->add_loop({camera_loop_.get(), loop_schedule(rig, "camera")});
   if (perception_loop_) {
     executor_->add_loop({perception_loop_.get(), loop_schedule(rig, "perception")});
@@ -190,6 +193,56 @@ void MainJob::build_loops() {
           {backend_loop.loop, runtime::LoopSchedule{backend_loop.rate_hz, backend_loop.priority}});
     }
   }
+}
+
+void MainJob::build_trace() {
+  // The trace needs the simulator's ground truth and something to look with.
+  const auto sim = backends_.find("sim");
+  if (sim == backends_.end() || !hardware_.stereo || !perception_loop_) return;
+  hal::Eye dominant = hal::Eye::kLeft;
+  if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
+  if (experiment_.task == config::ControlTask::kVergence) {
+    dominant = hal::other(experiment_.vergence.verging_eye);
+  }
+  const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
+    return *hardware_.find_camera(eye == hal::Eye::kLeft ? hardware_.stereo->left_camera
+                                                         : hardware_.stereo->right_camera);
+  };
+  TraceSources sources;
+  sources.joint_names = joint_order_;
+  sources.targets = &targets_;
+  for (const auto& slot : joint_loops_) sources.believed.push_back({slot.states.get(), slot.rig_indices});
+  sources.gaze = gaze_loop_ != nullptr ? &gaze_loop_->status() : nullptr;
+  sources.ssm = &perception_loop_->summaries();
+  sources.truth = &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
+  sources.dominant_camera = camera_of(dominant).name;
+  sources.verging_camera = camera_of(hal::other(dominant)).name;
+  sources.dominant_pan_joint = camera_of(dominant).parent_frame;
+  sources.verging_pan_joint = camera_of(hal::other(dominant)).parent_frame;
+  sources.target_object = experiment_.evaluation.target_object;
+  sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
+  const runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
+  trace_ = std::make_unique<TraceRecorder>(std::move(sources), schedule.rate_hz,
+                                           experiment_.duration_s);
+  executor_->add_loop({trace_.get(), schedule});
+}
+
+std::vector<std::string> MainJob::head_joint_names() const {
+  std::vector<std::string> names;
+  if (!hardware_.stereo) return names;
+  // Up the left eye's chain (eye pan, eye tilt, neck tilt, neck pan), then the right eye's pan.
+  std::vector<std::string> chain;
+  for (const std::string* link = &hardware_.find_camera(hardware_.stereo->left_camera)->parent_frame;
+       *link != "base";) {
+    const hal::JointInfo* joint = hardware_.find_joint(*link);
+    if (joint == nullptr) break;
+    chain.insert(chain.begin(), joint->name);
+    link = &joint->parent;
+  }
+  names = chain;
+  const std::string& right_pan = hardware_.find_camera(hardware_.stereo->right_camera)->parent_frame;
+  if (std::find(names.begin(), names.end(), right_pan) == names.end()) names.push_back(right_pan);
+  return names;
 }
 
 MainJobResult MainJob::run(const std::atomic<bool>& stop,

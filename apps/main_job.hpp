@@ -22,6 +22,7 @@
 #include "cambio/perception/ssm_server.hpp"
 #include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
+#include "run_trace.hpp"
 
 namespace cambio::app {
 
@@ -85,12 +86,18 @@ class MainJob {
   /// arrived.
   std::vector<const hal::Image*> last_frames();
   const std::vector<hal::CameraInfo>& cameras() const { return hardware_.cameras; }
+  /// What the run recorded at the control rate with the simulator's ground truth (trace.csv,
+  /// metrics, plots); null when the rig has no sim backend or no stereo pair. Read after run().
+  const Trace* trace() const { return trace_ ? &trace_->trace() : nullptr; }
+  /// The head's joints in the trace (pan/tilt of neck and eyes), for plots.
+  std::vector<std::string> head_joint_names() const;
   /// Paced by the wall clock (realtime executor) rather than simulated time.
   bool realtime() const { return realtime_; }
 
  private:
   void build_backends(const hal::BackendFactory& factory);
   void build_loops();
+  void build_trace();
   int joint_index(const std::string& joint_name) const;
 
   config::ExperimentConfig experiment_;
@@ -120,6 +127,7 @@ class MainJob {
   control::GazeLoop* gaze_loop_ = nullptr;          // control_loop_ when the task is gaze.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
+  std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
 };

@@ -162,6 +162,7 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
   const CommandTime* aim = last_command(inputs, {GazeAction::kFixate, GazeAction::kSaccade});
   const double settle_start_s = aim != nullptr ? aim->time_s : rows.front().time_s;
   const std::size_t settle_begin = first_row_from(trace, settle_start_s);
+  std::size_t first_settled = n;  // The first row meeting the settle thresholds (n: none).
   if (!any_gaze_error) {
     out.absent("settle_time_s", "the run has no target to score the gaze against");
     out.absent("max_verging_gaze_error_visible_deg",
@@ -175,6 +176,7 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
     }
     std::size_t reached = settle_begin;
     while (reached < n && !settled(reached)) ++reached;
+    first_settled = reached;
     if (reached < n) {
       double worst = -kInfinity;
       for (std::size_t k = reached; k < n; ++k) {
@@ -286,8 +288,11 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
   } else {
     out.absent("max_believed_vs_true_joint_error_rad", "no joint had both believed and true");
   }
+  // From the first settled row on: with the eyes (nearly) parallel the two axes meet far away or
+  // nowhere, and the distance between two such points says nothing about either.
   double fixation_max = -kInfinity, fixation_final = kInfinity;
-  for (const TraceRow& row : rows) {
+  for (std::size_t k = first_settled; k < n; ++k) {
+    const TraceRow& row = rows[k];
     if (!std::isfinite(row.fixation_error_m)) continue;
     fixation_max = std::max(fixation_max, row.fixation_error_m);
     fixation_final = row.fixation_error_m;
@@ -296,7 +301,7 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
     out.set("final_believed_vs_true_fixation_error_m", fixation_final);
     out.set("max_believed_vs_true_fixation_error_m", fixation_max);
   } else {
-    const char* why = "no sample had both a believed and a true fixation point";
+    const char* why = "no sample after the gaze settled had both a believed and a true fixation";
     out.absent("final_believed_vs_true_fixation_error_m", why);
     out.absent("max_believed_vs_true_fixation_error_m", why);
   }

@@ -28,7 +28,10 @@
 //  max_believed_vs_true_joint_error_rad
 //                          max |believed - true| over rows and joints that have both.
 //  final_/max_believed_vs_true_fixation_error_m
-//                          TraceRow::fixation_error_m of the last row that has one / its max.
+//                          TraceRow::fixation_error_m of the last row that has one / its max,
+//                          over the rows from the first that meets the settle thresholds (as
+//                          max_verging_gaze_error_visible_deg): before the eyes verge their axes
+//                          meet far away or not at all.
 //  final_max_abs_eye_pan_deg
 //                          max(|true pan|) of the two eyes' pan joints at the last row.
 //  max_verging_gaze_error_visible_deg
@@ -47,27 +50,15 @@
 #include <utility>
 #include <vector>
 
+#include "cambio/config/experiment_evaluation.hpp"
 #include "json_output.hpp"
 #include "run_trace.hpp"
 
 namespace cambio::app {
 
-/// The metric names, in summary.json's order; experiment goals name these.
-inline constexpr std::string_view kMetricNames[] = {
-    "final_disparity_px",
-    "true_gaze_error_deg",
-    "settle_time_s",
-    "saccade_duration_s",
-    "max_vergence_error_during_saccade_deg",
-    "reverge_time_s",
-    "pursuit_rms_error_deg",
-    "max_believed_vs_true_joint_error_rad",
-    "final_believed_vs_true_fixation_error_m",
-    "max_believed_vs_true_fixation_error_m",
-    "final_max_abs_eye_pan_deg",
-    "max_verging_gaze_error_visible_deg",
-    "target_occluded_s",
-};
+/// The metric names, in summary.json order: the config's list, so goals are checked at load time
+/// against the same names.
+inline constexpr const auto& kMetricNames = config::kExperimentMetricNames;
 
 /// A gaze command the run sent, at its time since the start.
 struct CommandTime {
@@ -99,14 +90,9 @@ struct RunMetrics {
 /// Throws std::invalid_argument for commands out of time order or non-positive thresholds.
 RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs);
 
-enum class GoalBound : std::uint8_t { kMax, kMin };
-
-/// One experiment goal: metric <= bound (kMax) or metric >= bound (kMin).
-struct Goal {
-  std::string metric;
-  GoalBound bound = GoalBound::kMax;
-  double value = 0.0;
-};
+/// One experiment goal (the experiment file's `goals:`): metric <= value (kMax) or >= (kMin).
+using GoalBound = config::GoalBound;
+using Goal = config::GoalConfig;
 
 struct GoalResult {
   Goal goal;

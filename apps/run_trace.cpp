@@ -232,9 +232,24 @@ hal::Status TraceRecorder::record(const hal::LoopTick& tick) {
   }
 
   // The dominant eye's target point.
+  if (!(row.gaze_status && row.action == control::GazeAction::kPursue)) pursuit_anchored_ = false;
   const bool named = !sources_.target_object.empty();
   Eigen::Vector3d target_W = Eigen::Vector3d::Constant(kNoValue);
-  if (named && (!row.gaze_status || row.action == control::GazeAction::kPursue)) {
+  const bool pursuing = row.gaze_status && row.action == control::GazeAction::kPursue;
+  if (named && pursuing) {
+    // Pursuit follows what the dominant eye fixated when it began: that point of the object,
+    // carried with it (a sphere's front point and its centre drift apart as it crosses the field).
+    const Eigen::Isometry3d X_WO = truth.X_WO(sources_.target_object);
+    if (!pursuit_anchored_) {
+      const Eigen::Isometry3d X_WD = truth.X_WC(sources_.dominant_camera);
+      const sim::RayHit start = truth.cast_ray(X_WD.translation(), X_WD.linear().col(2));
+      pursuit_anchor_O_ = start.hit && start.object == sources_.target_object
+                              ? Eigen::Vector3d(X_WO.inverse() * start.p_W)
+                              : Eigen::Vector3d::Zero();
+      pursuit_anchored_ = true;
+    }
+    target_W = X_WO * pursuit_anchor_O_;
+  } else if (named && !row.gaze_status) {
     target_W = truth.X_WO(sources_.target_object).translation();
   } else if (row.gaze_status && status_.target_set) {
     target_W = to_vector(status_.target_W_m);

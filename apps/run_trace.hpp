@@ -38,8 +38,9 @@ struct TraceJointSample {
 /// One sample of everything but the joints. Angles are the true gaze errors: the angle
 /// between an eye's true optical axis and the ray from its true optical centre to its target
 /// point. The dominant eye's target point is target_W_m: the gaze loop's commanded point
-/// (GazeStatus::target_W_m), except while pursuing a named target object (and without a gaze
-/// loop): that object's true centre. The verging eye's target point is where the dominant eye's
+/// (GazeStatus::target_W_m), except while pursuing a named target object: the point of that
+/// object the dominant eye's true axis met when pursuit began, moving with the object; and
+/// without a gaze loop: the named object's true centre. The verging eye's target point is where the dominant eye's
 /// true axis meets the scene (GroundTruth::cast_ray); when it meets nothing, the point of that
 /// axis closest to target_W_m. NaN where there is no target.
 struct TraceRow {
@@ -165,6 +166,10 @@ class TraceRecorder final : public hal::Loop {
   std::int64_t start_ns_ = 0;
   control::JointTargetFrame targets_{};
   std::vector<control::JointStateFrame> believed_frames_;  // The last good frame per source.
+  // Pursuit's target point in the target object's frame: where the dominant eye's true axis met
+  // the object when pursuit began.
+  bool pursuit_anchored_ = false;
+  Eigen::Vector3d pursuit_anchor_O_ = Eigen::Vector3d::Zero();
   control::GazeStatus status_{};
   perception::SsmSummary summary_{};
 };

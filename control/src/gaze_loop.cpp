@@ -145,6 +145,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         // The dominant eye has stopped on the target: fixate it and let the other eye re-verge.
         mode_ = Mode::kFixate;
         vergence_rad_ = saccade_end_vergence_rad_;
+        verged_ = false;
       }
       break;
     }
@@ -167,6 +168,8 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
 void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   command_ = command;
   verge_ = command.verge;
+  verged_ = false;  // A new gaze target: its first measurements are believed as they come.
+  pending_jump_rad_ = 0.0;
   ++status_.commands_applied;
   status_.action = command.action;
   switch (command.action) {
@@ -293,10 +296,29 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
       static_cast<double>(disparity.confidence) < params_.vergence.min_confidence) {
     return;
   }
-  // The angle the verging eye must turn (sign as applied to its pan), a fraction per measurement.
-  const double step =
-      std::clamp(params_.vergence.gain * vergence_controller_.angular_error_rad(d_px),
-                 -params_.vergence.max_step_rad, params_.vergence.max_step_rad);
+  // The angle the verging eye must still turn (sign as applied to its pan).
+  const double error_rad = vergence_controller_.angular_error_rad(d_px);
+  // Once verged, a sudden large error is believed only when the next measurement confirms it
+  // (same direction, within a factor of two): an object crossing the line of sight, seen by the
+  // SSM a frame or two late, must not drag the eyes off a target they still see.
+  if (verged_) {
+    if (std::abs(error_rad) > kVergenceJumpRad) {
+      const bool confirms = std::abs(pending_jump_rad_) > kVergenceJumpRad &&
+                            error_rad * pending_jump_rad_ > 0.0 &&
+                            std::abs(error_rad) <= 2.0 * std::abs(pending_jump_rad_) &&
+                            std::abs(pending_jump_rad_) <= 2.0 * std::abs(error_rad);
+      if (!confirms) {
+        pending_jump_rad_ = error_rad;
+        ++held_jumps_;
+        return;
+      }
+      verged_ = false;  // A real change of depth: verge again as from the start.
+    }
+  }
+  pending_jump_rad_ = 0.0;
+  if (std::abs(error_rad) < kVergedRad) verged_ = true;
+  const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
+                                 params_.vergence.max_step_rad);
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
   ++corrections_;
 }

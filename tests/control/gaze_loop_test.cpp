@@ -289,6 +289,25 @@ TEST(GazeLoop, VergenceNeverDivergesNorWindsUpAtALimit) {
   EXPECT_LT(head.status().vergence_rad, at_limit - 1.0 * kDeg) << "wound up at the limit";
 }
 
+TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  const double verged = head.status().vergence_rad;
+  // One frame of an object crossing the line of sight: 40 px, then the target again.
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "a lone jump moved the eye";
+  EXPECT_EQ(head.loop().held_jumps(), 1U);
+  for (int i = 0; i < 100; ++i) head.step(&sphere);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4);
+  // The target's depth really changed: the second measurement confirms the first.
+  for (int i = 0; i < 2 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
+}
+
 TEST(GazeLoop, SaccadeStaysWithinTheJointLimitsAndKeepsVergenceUntilItStops) {
   const Eigen::Vector3d left_cube(1.1, 0.22, 1.40);
   const Eigen::Vector3d right_cube(1.1, -0.22, 1.40);

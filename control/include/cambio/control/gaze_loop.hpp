@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,13 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t rejected_commands() const { return rejected_commands_; }
   std::uint64_t corrections() const { return corrections_; }
   std::uint64_t measurements() const { return measurements_; }
+  /// Large disparity jumps held back, once verged, until a second measurement confirmed them.
+  std::uint64_t held_jumps() const { return held_jumps_; }
+
+  /// Once the vergence error has been below kVergedRad, an error above kVergenceJumpRad needs a
+  /// second measurement to confirm it (see verge()).
+  static constexpr double kVergedRad = 0.25 * std::numbers::pi / 180.0;
+  static constexpr double kVergenceJumpRad = 1.0 * std::numbers::pi / 180.0;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
@@ -160,6 +168,9 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t rejected_commands_ = 0;
   std::uint64_t corrections_ = 0;
   std::uint64_t measurements_ = 0;
+  std::uint64_t held_jumps_ = 0;
+  bool verged_ = false;            // The vergence error has been small since the last command.
+  double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
 };
 
 }  // namespace cambio::control

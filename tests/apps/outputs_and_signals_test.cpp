@@ -90,8 +90,10 @@ TEST(Outputs, ARunReplacesThePreviousRunsFilesAsASet) {
   const fs::path dir = fresh_directory("set");
   ASSERT_EQ(run_cambio(kQuickRun + "--out '" + dir.string() + "'").exit_code, 0);
   const std::set<std::string> first = names_in(dir);
+  // A sim run with a stereo head also leaves its trace and plots (no key frames asked here).
   EXPECT_EQ(first, (std::set<std::string>{".cambio-lock", ".cambio-manifest.json", "left_eye.png",
-                                          "right_eye.png", "summary.json"}));
+                                          "right_eye.png", "summary.json", "trace.csv",
+                                          "plot_gaze.png", "plot_joints.png"}));
   // Pretend the previous run also wrote a file this run will not: it must not stay behind.
   std::ofstream(dir / "overview.png") << "from an earlier run";
   nlohmann::json manifest = read_json(dir / ".cambio-manifest.json");

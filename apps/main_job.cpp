@@ -221,7 +221,11 @@ void MainJob::build_trace() {
   sources.verging_pan_joint = camera_of(hal::other(dominant)).parent_frame;
   sources.target_object = experiment_.evaluation.target_object;
   sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
-  const runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
+  // At the control rate, but as evaluation: never at a real-time priority or pinned beside the
+  // loops it watches (its ground-truth queries and key-frame renders take milliseconds).
+  runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
+  schedule.priority = 0;
+  schedule.cpu = -1;
   trace_ = std::make_unique<TraceRecorder>(std::move(sources), schedule.rate_hz,
                                            experiment_.duration_s);
   executor_->add_loop({trace_.get(), schedule});

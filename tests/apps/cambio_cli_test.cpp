@@ -226,6 +226,22 @@ TEST(CambioCli, TheMainJobVergesOnTheTexturedSphere) {
   EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
 }
 
+// A goal the run cannot meet: the run completes, says which goal failed, and exits 1.
+TEST(CambioCli, AMissedGoalExitsOne) {
+  const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_missed_goal";
+  std::filesystem::remove_all(out_dir);
+  const auto result = run_cambio(
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=0.3 "
+      "--set experiment.goals.settle_time_s.max=0.01 --out '" + out_dir.string() + "'");
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_TRUE(contains(result.output, "goal settle_time_s <= 0.01: ")) << result.output;
+  const nlohmann::json summary = read_json(out_dir / "summary.json");
+  EXPECT_EQ(summary.at("passed"), false);
+  EXPECT_EQ(summary.at("outcome"), "goal_failed");
+  EXPECT_EQ(summary.at("goals").at("settle_time_s").at("passed"), false);
+  EXPECT_EQ(summary.at("goals").at("true_gaze_error_deg").at("passed"), true);
+}
+
 TEST(CambioCli, RunReportsExperimentMistakesWithTheirLine) {
   const auto result = run_cambio(
       "run firmware_config/experiments/vergence_sphere.yaml --set experiment.task=verge "

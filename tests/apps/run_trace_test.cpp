@@ -162,14 +162,16 @@ TEST_F(TraceRecorderTest, PursuitScoresTheObjectAndAnotherObjectOccludesTheVergi
   publish(Eigen::Vector3d(5.0, 5.0, 5.0));
   control::GazeStatus status;
   gaze_.read(status);
-  status.action = control::GazeAction::kPursue;  // Scored against the ball, not target_W_m.
+  // Pursuit is scored against the point of the ball the dominant eye's axis met when it began
+  // (its front, r = 0.1 m before the centre at x = 1.0 m), not against target_W_m.
+  status.action = control::GazeAction::kPursue;
   gaze_.write(status);
   TraceRecorder recorder(sources(), 200.0, 1.0);
   recorder.configure();
   run(recorder, 1);
   const TraceRow& row = recorder.trace().rows.at(0);
   EXPECT_NEAR(row.dominant_gaze_error_deg, 0.0, 1e-6);
-  EXPECT_NEAR(row.target_W_m[0], 1.0, 1e-12);
+  EXPECT_NEAR(row.target_W_m[0], 0.9, 1e-9);
   EXPECT_TRUE(row.target_occluded);
 }
 

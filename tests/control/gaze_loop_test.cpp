@@ -127,6 +127,9 @@ class GazeHarness {
     return angle_between(X_WC.linear().col(2), p_W - X_WC.translation()) / kDeg;
   }
 
+  /// An eye's optical frame in the world at the current joints.
+  Eigen::Isometry3d camera_pose_W(hal::Eye eye) { return camera_pose(eye); }
+
   /// Where the dominant eye's axis passes nearest `p_W` (the point the other eye should see).
   Eigen::Vector3d on_dominant_axis(const Eigen::Vector3d& p_W) {
     const Eigen::Isometry3d X_WC = camera_pose(params_.fixation.dominant_eye);
@@ -371,6 +374,43 @@ TEST(GazeLoop, AnglesAndPixelTargetsAreTakenFromWhereTheEyeLooksNow) {
   for (int i = 0; i < 800; ++i) head.step();
   EXPECT_NEAR(head.q_deg("left_eye_pan"), 8.0, 0.3);
   EXPECT_NEAR(head.q_deg("eye_tilt") + head.q_deg("neck_tilt"), 4.0, 0.3);
+}
+
+TEST(GazeLoop, APixelTargetBringsWhatWasThereToTheImageCentre) {
+  GazeHarness head;
+  head.build();
+  const auto& k = head.hardware().find_camera("left_eye")->intrinsics;
+  // 80 px right of and 40 px above the principal point; with no depth known (the eyes are
+  // parallel) the loop places it at the default depth, 1 m along the pixel's ray.
+  const double u = k.principal_x_px + 80.0;
+  const double v = k.principal_y_px - 40.0;
+  const Eigen::Isometry3d X_WC = head.camera_pose_W(hal::Eye::kLeft);
+  const Eigen::Vector3d ray_C((u - k.principal_x_px) / k.focal_x_px,
+                              (v - k.principal_y_px) / k.focal_y_px, 1.0);
+  const Eigen::Vector3d seen_W = X_WC * (1.0 * ray_C.normalized());
+  GazeTarget pixel;
+  pixel.kind = GazeTargetKind::kPixel;
+  pixel.pixel_px = {u, v};
+  head.command(GazeAction::kFixate, pixel);
+  for (int i = 0; i < 800; ++i) head.step();
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, seen_W), 0.01);
+  EXPECT_LT(head.q_deg("left_eye_pan"), -7.0) << "turned right";
+  EXPECT_LT(head.q_deg("eye_tilt") + head.q_deg("neck_tilt"), -3.0) << "looked up";
+}
+
+TEST(GazeLoop, PredictiveVergenceArrivesVerged) {
+  const Eigen::Vector3d near_left(0.8, 0.25, 1.40);
+  const Eigen::Vector3d far_right(1.4, -0.30, 1.40);
+  GazeHarness head;
+  head.params().predictive_vergence = true;
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(near_left));
+  for (int i = 0; i < 600; ++i) head.step(&near_left);
+  head.command(GazeAction::kSaccade, GazeHarness::point(far_right));
+  for (int i = 0; i < 200 && (i == 0 || head.status().saccade_active); ++i) head.step();
+  // No disparity was reported since the command: the vergence came from the target's depth.
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, far_right), 0.05);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, far_right), 0.05);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -247,10 +248,32 @@ TEST_F(GazeExperiment, TheVergenceAndHoldTasksStillLoad) {
 
 TEST_F(GazeExperiment, TheShippedExperimentsCarryTheirScene) {
   const ExperimentConfig config =
-      load_experiment(find_shipped_config("experiments/sim_default.yaml"));
+      load_experiment(find_shipped_config("experiments/vergence_sphere.yaml"));
   ASSERT_TRUE(config.scene.has_value());
   EXPECT_EQ(config.scene->name, "vergence");
   EXPECT_NE(config.scene->find_object("textured_sphere"), nullptr);
+}
+
+// Every shipped gaze experiment loads, and each object target sits at its object's centre.
+TEST_F(GazeExperiment, EveryShippedGazeExperimentLoadsWithItsTargets) {
+  int gaze_experiments = 0;
+  const std::filesystem::path dir =
+      std::filesystem::path(find_shipped_config("experiments/vergence_sphere.yaml")).parent_path();
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const ExperimentConfig config = load_experiment(entry.path().string());
+    if (config.task != ControlTask::kGaze) continue;
+    ++gaze_experiments;
+    ASSERT_TRUE(config.scene.has_value()) << entry.path();
+    EXPECT_FALSE(config.goals.empty()) << entry.path();
+    for (const auto& command : config.commands) {
+      if (command.target.object.empty()) continue;
+      const auto* object = config.scene->find_object(command.target.object);
+      ASSERT_NE(object, nullptr) << entry.path();
+      EXPECT_EQ(command.target.point_W_m[0], object->pose.xyz_m[0]) << entry.path();
+      EXPECT_EQ(command.target.point_W_m[1], object->pose.xyz_m[1]) << entry.path();
+    }
+  }
+  EXPECT_EQ(gaze_experiments, 6);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -19,7 +19,9 @@ const hal::CameraInfo& stereo_camera(const hal::HardwareInfo& hardware, hal::Eye
   return *camera;
 }
 
-std::size_t at(int index) { return static_cast<std::size_t>(index); }
+std::size_t at(int index) {
+  return static_cast<std::size_t>(index);
+}
 
 }  // namespace
 
@@ -334,8 +336,8 @@ void GazeLoop::clamp_vergence() noexcept {
   const double high = verging_ == hal::Eye::kRight ? limits.max_position_rad - dominant
                                                    : dominant - limits.min_position_rad;
   const double floor = std::max(0.0, low);
-  vergence_rad_ = std::clamp(std::isfinite(vergence_rad_) ? vergence_rad_ : 0.0, floor,
-                             std::max(floor, high));
+  vergence_rad_ =
+      std::clamp(std::isfinite(vergence_rad_) ? vergence_rad_ : 0.0, floor, std::max(floor, high));
 }
 
 void GazeLoop::place_verging_eye() noexcept {
@@ -343,9 +345,8 @@ void GazeLoop::place_verging_eye() noexcept {
   const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
   const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
   const hal::JointLimits& limits = limits_tree_[verging_pan];
-  q_command_tree_[verging_pan] =
-      std::clamp(q_command_tree_[dominant_pan] + sign * vergence_rad_, limits.min_position_rad,
-                 limits.max_position_rad);
+  q_command_tree_[verging_pan] = std::clamp(q_command_tree_[dominant_pan] + sign * vergence_rad_,
+                                            limits.min_position_rad, limits.max_position_rad);
 }
 
 double GazeLoop::depth_estimate_m() const noexcept {
@@ -417,8 +418,8 @@ void GazeLoop::publish(std::int64_t now_ns) noexcept {
       status_.believed_fixation_valid = true;
     }
   }
-  status_.vergence_rad = q_command_tree_[at(head_.eye_pan[1])] -
-                         q_command_tree_[at(head_.eye_pan[0])];
+  status_.vergence_rad =
+      q_command_tree_[at(head_.eye_pan[1])] - q_command_tree_[at(head_.eye_pan[0])];
   status_.disparity_valid = summary_.disparity.valid;
   status_.disparity_px = summary_.disparity.disparity_px;
   status_.disparity_confidence = summary_.disparity.confidence;

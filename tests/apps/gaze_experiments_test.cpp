@@ -28,7 +28,9 @@ struct ExperimentCase {
   std::string sets;        ///< Extra --set arguments.
 };
 
-std::ostream& operator<<(std::ostream& out, const ExperimentCase& c) { return out << c.label; }
+std::ostream& operator<<(std::ostream& out, const ExperimentCase& c) {
+  return out << c.label;
+}
 
 // The left eye's pan (deg) that looks at (x, y) from its pan axis at (0.04, 0.06) m with the
 // neck straight (rigs/cambio.yaml): where a run "from parallel" starts both eyes.
@@ -74,8 +76,9 @@ std::vector<ExperimentCase> cases() {
                      "--set 'scene.objects.0.motion.waypoints=[{time_s: 0.0, xyz_m: [1.2, 0.35, "
                      "1.40]}, {time_s: 3.5, xyz_m: [1.2, -0.35, 1.40]}]' " +
                      on_target_pose(1.2, 0.35)});
-  all.push_back({"neck_rule_to_the_right", "neck_rule",
-                 move_object(0, "[0.771, -0.919, 1.40]") + move_object(1, "[0.771, -0.919, 0.65]")});
+  all.push_back(
+      {"neck_rule_to_the_right", "neck_rule",
+       move_object(0, "[0.771, -0.919, 1.40]") + move_object(1, "[0.771, -0.919, 0.65]")});
   return all;
 }
 

@@ -61,7 +61,8 @@ TEST(Outputs, ABadOutIsRefusedBeforeAnyWork) {
   const auto started = std::chrono::steady_clock::now();
   // A 60 s run: refused before it starts, or this test takes a minute.
   auto result = run_cambio(
-      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=60 --out '" +
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=60 --out "
+      "'" +
       file.string() + "'");
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_TRUE(contains(result.output, "is not a directory")) << result.output;

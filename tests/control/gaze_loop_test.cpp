@@ -108,7 +108,8 @@ class GazeHarness {
     JointTargetFrame targets;
     ASSERT_TRUE(targets_.read(targets));
     previous_q_rig_ = q_rig_;
-    for (int i = 0; i < targets.count; ++i) q_rig_[static_cast<std::size_t>(i)] = targets.commands[static_cast<std::size_t>(i)].value;
+    for (int i = 0; i < targets.count; ++i)
+      q_rig_[static_cast<std::size_t>(i)] = targets.commands[static_cast<std::size_t>(i)].value;
     publish_states();
     now_ns_ += static_cast<std::int64_t>(kPeriodS * 1e9);
   }

@@ -61,9 +61,10 @@ int main(int argc, char** argv) {
                             cambio::hal::Status::kOk &&
                         qdot[static_cast<std::size_t>(servo.head().eye_pan[0])] > 0.0;
 
-  const bool ok = servo_ok && image.pixels.size() == 36 && value == 1.5 && experiment.rig.joints.size() == 15 &&
-                  hardware.joints.size() == 15 && hardware.stereo.has_value() &&
-                  !experiment.perception_path.empty() && loop.cycles == 100 && factory.has("sim") &&
+  const bool ok = servo_ok && image.pixels.size() == 36 && value == 1.5 &&
+                  experiment.rig.joints.size() == 15 && hardware.joints.size() == 15 &&
+                  hardware.stereo.has_value() && !experiment.perception_path.empty() &&
+                  loop.cycles == 100 && factory.has("sim") &&
                   cambio::perception::gaussian_half_width(1.4, 3.0) == 5;
   std::printf("consumer: %s\n", ok ? "ok" : "MISMATCH");
   return ok ? 0 : 1;

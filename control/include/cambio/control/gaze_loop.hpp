@@ -136,13 +136,13 @@ class GazeLoop final : public hal::Loop {
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<GazeStatus> status_channel_;
 
-  JointTargetFrame pose_;                 // Rig order: what is commanded.
-  std::vector<double> q_command_tree_;    // The commanded pose, tree order.
-  std::vector<double> q_believed_rig_;    // Encoders, rig order.
-  std::vector<double> q_believed_tree_;   // Encoders, tree order.
-  std::vector<double> qdot_tree_;         // Servo output, tree order.
-  std::vector<double> q_scratch_tree_;    // Saccade end pose.
-  std::array<int, 5> saccade_joints_{};   // Neck pan, neck tilt, eye tilt, dominant, verging.
+  JointTargetFrame pose_;                // Rig order: what is commanded.
+  std::vector<double> q_command_tree_;   // The commanded pose, tree order.
+  std::vector<double> q_believed_rig_;   // Encoders, rig order.
+  std::vector<double> q_believed_tree_;  // Encoders, tree order.
+  std::vector<double> qdot_tree_;        // Servo output, tree order.
+  std::vector<double> q_scratch_tree_;   // Saccade end pose.
+  std::array<int, 5> saccade_joints_{};  // Neck pan, neck tilt, eye tilt, dominant, verging.
   std::array<double, 5> saccade_q0_{}, saccade_q1_{}, saccade_vmax_{}, saccade_amax_{};
   std::array<double, 5> saccade_q_{}, saccade_qdot_{};
   std::int64_t saccade_start_ns_ = 0;

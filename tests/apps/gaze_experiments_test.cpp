@@ -119,8 +119,8 @@ TEST_P(GazeExperiment, MeetsItsGoals) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Experiments, GazeExperiment, ::testing::ValuesIn(cases()),
-                         [](const ::testing::TestParamInfo<ExperimentCase>& info) {
-                           return info.param.label;
+                         [](const ::testing::TestParamInfo<ExperimentCase>& param_info) {
+                           return param_info.param.label;
                          });
 
 }  // namespace

@@ -72,6 +72,8 @@ control::GazeTarget gaze_target(const config::GazeTargetConfig& target) {
   return out;
 }
 
+}  // namespace
+
 control::GazeAction gaze_action(config::GazeAction action) {
   switch (action) {
     case config::GazeAction::kHold:
@@ -85,8 +87,6 @@ control::GazeAction gaze_action(config::GazeAction action) {
   }
   return control::GazeAction::kHold;
 }
-
-}  // namespace
 
 control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
                                          const hal::HardwareInfo& hardware) {

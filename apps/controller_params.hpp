@@ -34,6 +34,9 @@ control::VergenceParams vergence_params(const config::ExperimentConfig& experime
 control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
                                          const hal::HardwareInfo& hardware);
 
+/// The config's name for a gaze action as the gaze loop's (the same enumerators).
+control::GazeAction gaze_action(config::GazeAction action);
+
 /// The experiment's `commands:` as the command script's timeline.
 std::vector<control::CommandScript::Entry> command_script(
     const config::ExperimentConfig& experiment);

@@ -11,6 +11,7 @@
 #include "cambio/can/can_traffic_log.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "controller_params.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
 #include "main_job.hpp"
@@ -128,27 +129,13 @@ std::optional<double> last_command_time(const config::ExperimentConfig& experime
   return time_s;
 }
 
-control::GazeAction control_action(config::GazeAction action) {
-  switch (action) {
-    case config::GazeAction::kHold:
-      return control::GazeAction::kHold;
-    case config::GazeAction::kFixate:
-      return control::GazeAction::kFixate;
-    case config::GazeAction::kSaccade:
-      return control::GazeAction::kSaccade;
-    case config::GazeAction::kPursue:
-      return control::GazeAction::kPursue;
-  }
-  return control::GazeAction::kHold;
-}
-
 RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const MainJobResult& result,
                            const Trace& trace) {
   MetricInputs inputs;
   for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
     if (result.command_sent_s[i] < 0.0) continue;  // The run ended before it was due.
     inputs.commands.push_back(
-        {result.command_sent_s[i], control_action(experiment.commands[i].action)});
+        {result.command_sent_s[i], gaze_action(experiment.commands[i].action)});
   }
   inputs.settle_disparity_px = experiment.evaluation.settle.disparity_px;
   inputs.settle_gaze_error_deg =

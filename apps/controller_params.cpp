@@ -53,10 +53,18 @@ namespace {
 control::GazeTarget gaze_target(const config::GazeTargetConfig& target) {
   control::GazeTarget out;
   switch (target.kind) {
-    case config::GazeTargetKind::kNone: out.kind = control::GazeTargetKind::kNone; break;
-    case config::GazeTargetKind::kPoint: out.kind = control::GazeTargetKind::kPoint; break;
-    case config::GazeTargetKind::kPixel: out.kind = control::GazeTargetKind::kPixel; break;
-    case config::GazeTargetKind::kAngles: out.kind = control::GazeTargetKind::kAngles; break;
+    case config::GazeTargetKind::kNone:
+      out.kind = control::GazeTargetKind::kNone;
+      break;
+    case config::GazeTargetKind::kPoint:
+      out.kind = control::GazeTargetKind::kPoint;
+      break;
+    case config::GazeTargetKind::kPixel:
+      out.kind = control::GazeTargetKind::kPixel;
+      break;
+    case config::GazeTargetKind::kAngles:
+      out.kind = control::GazeTargetKind::kAngles;
+      break;
   }
   out.point_W_m = target.point_W_m;
   out.pixel_px = target.pixel_px;
@@ -66,10 +74,14 @@ control::GazeTarget gaze_target(const config::GazeTargetConfig& target) {
 
 control::GazeAction gaze_action(config::GazeAction action) {
   switch (action) {
-    case config::GazeAction::kHold: return control::GazeAction::kHold;
-    case config::GazeAction::kFixate: return control::GazeAction::kFixate;
-    case config::GazeAction::kSaccade: return control::GazeAction::kSaccade;
-    case config::GazeAction::kPursue: return control::GazeAction::kPursue;
+    case config::GazeAction::kHold:
+      return control::GazeAction::kHold;
+    case config::GazeAction::kFixate:
+      return control::GazeAction::kFixate;
+    case config::GazeAction::kSaccade:
+      return control::GazeAction::kSaccade;
+    case config::GazeAction::kPursue:
+      return control::GazeAction::kPursue;
   }
   return control::GazeAction::kHold;
 }
@@ -81,9 +93,9 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
   if (!hardware.stereo) throw std::runtime_error("the gaze task needs a stereo rig");
   const config::GazeTaskConfig& gaze = experiment.gaze;
   const hal::Eye verging_eye = hal::other(gaze.dominant_eye);
-  const hal::CameraInfo* verging = hardware.find_camera(verging_eye == hal::Eye::kRight
-                                                            ? hardware.stereo->right_camera
-                                                            : hardware.stereo->left_camera);
+  const hal::CameraInfo* verging =
+      hardware.find_camera(verging_eye == hal::Eye::kRight ? hardware.stereo->right_camera
+                                                           : hardware.stereo->left_camera);
   if (verging == nullptr) throw std::runtime_error("the stereo pair names an unknown camera");
   control::GazeLoopParams params;
   params.fixation.dominant_eye = gaze.dominant_eye;

@@ -35,6 +35,7 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
                                          const hal::HardwareInfo& hardware);
 
 /// The experiment's `commands:` as the command script's timeline.
-std::vector<control::CommandScript::Entry> command_script(const config::ExperimentConfig& experiment);
+std::vector<control::CommandScript::Entry> command_script(
+    const config::ExperimentConfig& experiment);
 
 }  // namespace cambio::app

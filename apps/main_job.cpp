@@ -211,7 +211,8 @@ void MainJob::build_trace() {
   TraceSources sources;
   sources.joint_names = joint_order_;
   sources.targets = &targets_;
-  for (const auto& slot : joint_loops_) sources.believed.push_back({slot.states.get(), slot.rig_indices});
+  for (const auto& slot : joint_loops_)
+    sources.believed.push_back({slot.states.get(), slot.rig_indices});
   sources.gaze = gaze_loop_ != nullptr ? &gaze_loop_->status() : nullptr;
   sources.ssm = &perception_loop_->summaries();
   sources.truth = &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
@@ -222,8 +223,8 @@ void MainJob::build_trace() {
   sources.target_object = experiment_.evaluation.target_object;
   sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
   const runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
-  trace_ = std::make_unique<TraceRecorder>(std::move(sources), schedule.rate_hz,
-                                           experiment_.duration_s);
+  trace_ =
+      std::make_unique<TraceRecorder>(std::move(sources), schedule.rate_hz, experiment_.duration_s);
   executor_->add_loop({trace_.get(), schedule});
 }
 
@@ -232,7 +233,8 @@ std::vector<std::string> MainJob::head_joint_names() const {
   if (!hardware_.stereo) return names;
   // Up the left eye's chain (eye pan, eye tilt, neck tilt, neck pan), then the right eye's pan.
   std::vector<std::string> chain;
-  for (const std::string* link = &hardware_.find_camera(hardware_.stereo->left_camera)->parent_frame;
+  for (const std::string* link =
+           &hardware_.find_camera(hardware_.stereo->left_camera)->parent_frame;
        *link != "base";) {
     const hal::JointInfo* joint = hardware_.find_joint(*link);
     if (joint == nullptr) break;
@@ -240,7 +242,8 @@ std::vector<std::string> MainJob::head_joint_names() const {
     link = &joint->parent;
   }
   names = chain;
-  const std::string& right_pan = hardware_.find_camera(hardware_.stereo->right_camera)->parent_frame;
+  const std::string& right_pan =
+      hardware_.find_camera(hardware_.stereo->right_camera)->parent_frame;
   if (std::find(names.begin(), names.end(), right_pan) == names.end()) names.push_back(right_pan);
   return names;
 }

@@ -55,7 +55,7 @@ struct MainJobResult {
   std::uint64_t gaze_measurements = 0;
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
-  std::vector<CanGroupReport> can_groups;            ///< One per socketcan group.
+  std::vector<CanGroupReport> can_groups;  ///< One per socketcan group.
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):

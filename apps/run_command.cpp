@@ -130,10 +130,14 @@ std::optional<double> last_command_time(const config::ExperimentConfig& experime
 
 control::GazeAction control_action(config::GazeAction action) {
   switch (action) {
-    case config::GazeAction::kHold: return control::GazeAction::kHold;
-    case config::GazeAction::kFixate: return control::GazeAction::kFixate;
-    case config::GazeAction::kSaccade: return control::GazeAction::kSaccade;
-    case config::GazeAction::kPursue: return control::GazeAction::kPursue;
+    case config::GazeAction::kHold:
+      return control::GazeAction::kHold;
+    case config::GazeAction::kFixate:
+      return control::GazeAction::kFixate;
+    case config::GazeAction::kSaccade:
+      return control::GazeAction::kSaccade;
+    case config::GazeAction::kPursue:
+      return control::GazeAction::kPursue;
   }
   return control::GazeAction::kHold;
 }
@@ -143,10 +147,12 @@ RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const Mai
   MetricInputs inputs;
   for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
     if (result.command_sent_s[i] < 0.0) continue;  // The run ended before it was due.
-    inputs.commands.push_back({result.command_sent_s[i], control_action(experiment.commands[i].action)});
+    inputs.commands.push_back(
+        {result.command_sent_s[i], control_action(experiment.commands[i].action)});
   }
   inputs.settle_disparity_px = experiment.evaluation.settle.disparity_px;
-  inputs.settle_gaze_error_deg = experiment.evaluation.settle.gaze_error_rad * 180.0 / std::numbers::pi;
+  inputs.settle_gaze_error_deg =
+      experiment.evaluation.settle.gaze_error_rad * 180.0 / std::numbers::pi;
   inputs.pursuit_catch_up_s = experiment.evaluation.pursuit_catch_up_s;
   RunEvaluation evaluation{compute_metrics(trace, inputs), {}};
   evaluation.goals = evaluate_goals(evaluation.metrics, experiment.goals);
@@ -155,13 +161,15 @@ RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const Mai
 
 void print_evaluation(const RunEvaluation& evaluation) {
   std::cout << "metrics:";
-  for (const auto& [name, value] : evaluation.metrics.values) std::cout << " " << name << "=" << value;
+  for (const auto& [name, value] : evaluation.metrics.values)
+    std::cout << " " << name << "=" << value;
   std::cout << "\n";
   for (const auto& goal : evaluation.goals) {
     std::cout << "goal " << goal.goal.metric
               << (goal.goal.bound == config::GoalBound::kMax ? " <= " : " >= ") << goal.goal.value
               << ": " << (goal.value ? std::to_string(*goal.value) : std::string("absent")) << " "
-              << (goal.passed ? "met" : "NOT met" + (goal.reason.empty() ? "" : " (" + goal.reason + ")"))
+              << (goal.passed ? "met"
+                              : "NOT met" + (goal.reason.empty() ? "" : " (" + goal.reason + ")"))
               << "\n";
   }
 }

@@ -40,9 +40,9 @@ struct TraceJointSample {
 /// point. The dominant eye's target point is target_W_m: the gaze loop's commanded point
 /// (GazeStatus::target_W_m), except while pursuing a named target object: the point of that
 /// object the dominant eye's true axis met when pursuit began, moving with the object; and
-/// without a gaze loop: the named object's true centre. The verging eye's target point is where the dominant eye's
-/// true axis meets the scene (GroundTruth::cast_ray); when it meets nothing, the point of that
-/// axis closest to target_W_m. NaN where there is no target.
+/// without a gaze loop: the named object's true centre. The verging eye's target point is where the
+/// dominant eye's true axis meets the scene (GroundTruth::cast_ray); when it meets nothing, the
+/// point of that axis closest to target_W_m. NaN where there is no target.
 struct TraceRow {
   double time_s = 0.0;  ///< Since the recorder's first cycle (the run's start).
   bool disparity_valid = false;

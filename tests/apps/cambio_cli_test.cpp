@@ -165,7 +165,8 @@ TEST(CambioCli, RunRefusesAMissingExperiment) {
 // interface is absent or nothing answers on it): a device fault, exit 3, naming the bus.
 TEST(CambioCli, RunOnCanWithoutItsBusIsADeviceFault) {
   const auto result = run_cambio(
-      "run firmware_config/experiments/vergence_sphere.yaml --set rig.groups.head.backend=socketcan "
+      "run firmware_config/experiments/vergence_sphere.yaml --set "
+      "rig.groups.head.backend=socketcan "
       "--set rig.can_buses.can0.interface=cambio_absent0");
   EXPECT_EQ(result.exit_code, 3) << result.output;
   EXPECT_TRUE(contains(result.output, "cambio_absent0")) << result.output;
@@ -174,9 +175,8 @@ TEST(CambioCli, RunOnCanWithoutItsBusIsADeviceFault) {
 TEST(CambioCli, RunTheSimDefaultBriefly) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_run";
   std::filesystem::remove_all(out_dir);
-  const auto result = run_cambio(
-      "run tests/apps/data/sim_hold.yaml --out '" +
-      out_dir.string() + "'");
+  const auto result =
+      run_cambio("run tests/apps/data/sim_hold.yaml --out '" + out_dir.string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(contains(result.output, "joint")) << result.output;
   // 0.5 s at 30 Hz, two cameras: 15 frames each.

@@ -32,22 +32,6 @@ control::JointLoopParams joint_loop_params(const config::RigConfig& rig) {
   return params;
 }
 
-control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
-                                        const hal::HardwareInfo& hardware) {
-  if (!hardware.stereo) throw std::runtime_error("the vergence task needs a stereo rig");
-  const bool right_verges = experiment.vergence.verging_eye == hal::Eye::kRight;
-  const hal::CameraInfo* verging = hardware.find_camera(
-      right_verges ? hardware.stereo->right_camera : hardware.stereo->left_camera);
-  if (verging == nullptr) throw std::runtime_error("the stereo pair names an unknown camera");
-  control::VergenceParams params;
-  params.verging_eye = experiment.vergence.verging_eye;
-  params.focal_px = verging->intrinsics.focal_x_px;
-  params.gain = experiment.vergence.gain;
-  params.min_confidence = experiment.vergence.min_confidence;
-  params.max_step_rad = experiment.vergence.max_step_rad;
-  return params;
-}
-
 namespace {
 
 control::GazeTarget gaze_target(const config::GazeTargetConfig& target) {

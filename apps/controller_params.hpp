@@ -5,7 +5,6 @@
 #include "cambio/control/command_script.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
-#include "cambio/control/vergence_controller.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/runtime/scheduled_loop.hpp"
 
@@ -23,11 +22,6 @@ runtime::LoopSchedule loop_schedule(const config::RigConfig& rig, const std::str
 
 /// The joint loop's watchdogs from the rig's `loops.joint`.
 control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
-
-/// The vergence controller of the experiment: which eye verges, with the verging camera's focal
-/// length. Throws std::runtime_error if the rig has no stereo pair.
-control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
-                                        const hal::HardwareInfo& hardware);
 
 /// The gaze loop of a `task: gaze` experiment: its `gaze:` settings, the verging camera's focal
 /// length. Throws std::runtime_error if the rig has no stereo pair.

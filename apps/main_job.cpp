@@ -153,18 +153,7 @@ void MainJob::build_loops() {
         hardware_.cameras[stereo->right], ssm);
   }
 
-  if (experiment_.task == config::ControlTask::kVergence) {
-    if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
-    const control::VergenceParams params = vergence_params(experiment_, hardware_);
-    const bool right_verges = params.verging_eye == hal::Eye::kRight;
-    const auto& verging = hardware_.cameras[right_verges ? stereo->right : stereo->left];
-    const auto& dominant = hardware_.cameras[right_verges ? stereo->left : stereo->right];
-    auto loop = std::make_unique<control::VergenceLoop>(
-        control::VergenceController(params), pose, joint_index(verging.parent_frame),
-        joint_index(dominant.parent_frame), perception_loop_->summaries(), targets_);
-    vergence_loop_ = loop.get();
-    control_loop_ = std::move(loop);
-  } else if (experiment_.task == config::ControlTask::kGaze) {
+  if (experiment_.task == config::ControlTask::kGaze) {
     if (!perception_loop_) throw std::runtime_error("the gaze task needs a stereo rig");
     std::vector<control::BelievedJoints::Source> sources;
     for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
@@ -201,9 +190,6 @@ void MainJob::build_trace() {
   if (sim == backends_.end() || !hardware_.stereo || !perception_loop_) return;
   hal::Eye dominant = hal::Eye::kLeft;
   if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
-  if (experiment_.task == config::ControlTask::kVergence) {
-    dominant = hal::other(experiment_.vergence.verging_eye);
-  }
   const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
     return *hardware_.find_camera(eye == hal::Eye::kLeft ? hardware_.stereo->left_camera
                                                          : hardware_.stereo->right_camera);
@@ -290,10 +276,6 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
     result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
     perception::SsmSummary summary;
     if (perception_loop_->summaries().read(summary)) result.perception = summary;
-  }
-  if (vergence_loop_ != nullptr) {
-    control::VergenceStatus status;
-    if (vergence_loop_->status().read(status)) result.vergence = status;
   }
   if (gaze_loop_ != nullptr) {
     control::GazeStatus status;

@@ -14,7 +14,6 @@
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/rig_hold.hpp"
-#include "cambio/control/vergence_loop.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/joint_state_tap.hpp"
@@ -48,7 +47,6 @@ struct MainJobResult {
   double simulated_s = 0.0;
   double wall_s = 0.0;
   std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
-  std::optional<control::VergenceStatus> vergence;   ///< If the task was vergence.
   std::optional<control::GazeStatus> gaze;           ///< If the task was gaze: the last status.
   std::uint64_t gaze_rejected_commands = 0;
   std::uint64_t gaze_corrections = 0;
@@ -123,8 +121,7 @@ class MainJob {
   control::RigHold rig_hold_;                               // Outlives the joint loops.
   std::vector<JointLoopSlot> joint_loops_;
   std::unique_ptr<hal::Loop> control_loop_;
-  control::VergenceLoop* vergence_loop_ = nullptr;  // control_loop_ when the task is vergence.
-  control::GazeLoop* gaze_loop_ = nullptr;          // control_loop_ when the task is gaze.
+  control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
   std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.

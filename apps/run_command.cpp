@@ -1,5 +1,4 @@
 // `cambio run EXPERIMENT.yaml`: the main job (main_job.hpp) with its report.
-#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -65,12 +64,6 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                           {"disparity_valid", d.valid},
                           {"disparity_px", d.disparity_px},
                           {"confidence", d.confidence}};
-  }
-  if (result.vergence) {
-    json["vergence"] = {{"measurements", result.vergence->measurements},
-                        {"corrections", result.vergence->corrections},
-                        {"final_disparity_px", result.vergence->disparity_px},
-                        {"verging_eye_target_rad", result.vergence->verging_target_rad}};
   }
   if (result.gaze) {
     const control::GazeStatus& gaze = *result.gaze;
@@ -272,18 +265,6 @@ int run_run_command(std::span<const std::string> args) {
               << " (confidence " << d.confidence << ")\n";
   }
   bool goal_failed = false;
-  if (result.vergence) {
-    const double goal = experiment.vergence.goal_disparity_px;
-    const bool verged = result.vergence->valid && std::abs(result.vergence->disparity_px) <= goal;
-    std::cout << "vergence: " << result.vergence->corrections << " corrections from "
-              << result.vergence->measurements << " measurements; final disparity "
-              << result.vergence->disparity_px << " px (goal |d| <= " << goal << " px): "
-              << (goal <= 0 ? "not scored"
-                  : verged  ? "verged"
-                            : "NOT verged")
-              << "\n";
-    goal_failed = goal > 0 && !verged;
-  }
   std::optional<RunEvaluation> evaluation;
   if (const Trace* trace = job->trace()) {
     evaluation = evaluate_run(experiment, result, *trace);

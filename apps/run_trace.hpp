@@ -112,7 +112,7 @@ struct TraceSources {
   std::vector<std::string> joint_names;  ///< Rig order (the targets' order).
   const hal::SeqlockChannel<control::JointTargetFrame>* targets = nullptr;
   std::vector<BelievedStateSource> believed;
-  /// Null for a task without a gaze loop (the vergence task).
+  /// Null for a task without a gaze loop.
   const hal::SeqlockChannel<control::GazeStatus>* gaze = nullptr;
   /// The SSM's summaries, for the measured disparity; null: GazeStatus's disparity is used.
   const hal::SeqlockChannel<perception::SsmSummary>* ssm = nullptr;

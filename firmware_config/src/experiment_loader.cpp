@@ -67,10 +67,8 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
                         "a day; a run's cycles, progress and records grow with its duration"));
   const std::string perception_file = experiment.text_or("perception", "");
   config.perception_path = resolve(perception_file);
-  const std::string task = experiment.choice_or("task", {"hold", "vergence", "gaze"}, "hold");
-  config.task = task == "gaze"       ? ControlTask::kGaze
-                : task == "vergence" ? ControlTask::kVergence
-                                     : ControlTask::kHold;
+  const std::string task = experiment.choice_or("task", {"hold", "gaze"}, "hold");
+  config.task = task == "gaze" ? ControlTask::kGaze : ControlTask::kHold;
   if (auto recovery = experiment.optional_map("fault_recovery")) {
     FaultRecoveryConfig& r = config.fault_recovery;
     r.after_s = recovery->number_or("after_s", r.after_s, Range::closed(0.0, 3600.0));
@@ -78,22 +76,12 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
         recovery->integer_or("max_recoveries", r.max_recoveries, Range::closed(0, 1000)));
     recovery->finish();
   }
-  if (auto vergence = experiment.optional_map("vergence")) {
-    // Keys left out keep VergenceTaskConfig's member initialisers, the one place of the defaults.
-    VergenceTaskConfig& v = config.vergence;
-    const std::string verging_eye = vergence->choice_or("verging_eye", {"left", "right"},
-                                                        std::string(hal::to_string(v.verging_eye)));
-    v.verging_eye = verging_eye == "left" ? hal::Eye::kLeft : hal::Eye::kRight;
-    v.gain = vergence->number_or("gain", v.gain, {0.0, 1.0, true, false});
-    v.min_confidence = vergence->number_or("min_confidence", v.min_confidence, Range::closed(0, 1));
-    v.max_step_rad = vergence->angle_rad_or("max_step", v.max_step_rad, Range::positive());
-    v.goal_disparity_px =
-        vergence->number_or("goal_disparity_px", v.goal_disparity_px, Range::non_negative());
-    vergence->finish();
-    if (config.task == ControlTask::kGaze) {
-      experiment.error("vergence",
-                       "task gaze reads gaze.vergence; experiment.vergence is the vergence task's");
-    }
+  // The vergence task (a top-level `vergence:`) was retired for the gaze task's vergence; the key
+  // is read here so that an old file is told where it went rather than that it is unknown.
+  if (experiment.optional_map("vergence")) {
+    experiment.error("vergence",
+                     "task vergence was retired: use task gaze, with these settings under "
+                     "gaze.vergence (the verging eye is the one gaze.dominant_eye is not)");
   }
   // The scene is loaded before the sections that name its objects.
   const bool scene_readable = check_named_file("scene", "scene", scene_file, config.scene_path);
@@ -118,9 +106,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   } else {
     for (const std::string_view key : {"gaze", "commands"}) {
       if (experiment.has(key)) {
-        experiment.error(key, "only task gaze reads " + std::string(key) + " (task is " +
-                                  (config.task == ControlTask::kVergence ? "vergence" : "hold") +
-                                  ")");
+        experiment.error(key, "only task gaze reads " + std::string(key) + " (task is hold)");
       }
     }
   }

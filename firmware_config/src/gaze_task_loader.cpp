@@ -153,7 +153,6 @@ GazeTaskConfig read_gaze_task(MapReader gaze) {
   config.default_depth_m =
       gaze.number_or("default_depth_m", config.default_depth_m, Range::positive());
   if (auto vergence = gaze.optional_map("vergence")) {
-    // The vergence task's keys, ranges and defaults (experiment_loader.cpp).
     GazeVergenceConfig& v = config.vergence;
     v.enabled = vergence->boolean_or("enabled", v.enabled);
     v.gain = vergence->number_or("gain", v.gain, {0.0, 1.0, true, false});

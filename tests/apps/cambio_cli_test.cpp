@@ -184,7 +184,7 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   EXPECT_TRUE(std::filesystem::exists(out_dir / "left_eye.png"));
   EXPECT_TRUE(std::filesystem::exists(out_dir / "right_eye.png"));
   const nlohmann::json summary = read_json(out_dir / "summary.json");
-  EXPECT_FALSE(summary.contains("vergence")) << "task=hold runs no vergence loop";
+  EXPECT_FALSE(summary.contains("gaze")) << "task=hold runs no gaze loop";
   EXPECT_EQ(summary.at("stereo_pairs"), 15);
   EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
   EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);

@@ -198,12 +198,10 @@ TEST_F(GazeExperiment, KeysLeftOutTakeThePlansDefaults) {
   EXPECT_EQ(gaze.fixation_gain_per_s, 4.0);
   EXPECT_DOUBLE_EQ(gaze.neck_rule_rad, std::numbers::pi / 6);
   EXPECT_EQ(gaze.default_depth_m, 1.0);
-  // The vergence task's defaults.
-  const VergenceTaskConfig vergence_task;
   EXPECT_TRUE(gaze.vergence.enabled);
-  EXPECT_EQ(gaze.vergence.gain, vergence_task.gain);
-  EXPECT_EQ(gaze.vergence.min_confidence, vergence_task.min_confidence);
-  EXPECT_EQ(gaze.vergence.max_step_rad, vergence_task.max_step_rad);
+  EXPECT_EQ(gaze.vergence.gain, 0.5);
+  EXPECT_EQ(gaze.vergence.min_confidence, 0.3);
+  EXPECT_EQ(gaze.vergence.max_step_rad, 0.05);
   EXPECT_FALSE(gaze.saccade.predictive_vergence);
   EXPECT_EQ(gaze.pursuit.position_gain_per_s, 4.0);
   EXPECT_EQ(gaze.pursuit.velocity_gain, 1.0);
@@ -230,20 +228,36 @@ TEST_F(GazeExperiment, AnObjectIsResolvedToItsCentreWhenTheRunStarts) {
   EXPECT_EQ(config.commands[1].target.point_W_m, (std::array<double, 3>{1.2, 0.3, 1.3}));
 }
 
-TEST_F(GazeExperiment, TheVergenceAndHoldTasksStillLoad) {
-  const std::string rig = test::shipped_rig_path("cambio.yaml");
-  const ExperimentConfig vergence = load_experiment_from_string(
-      "experiment:\n  name: v\n  rig: " + rig + "\n  scene: " + scene_path_ +
-          "\n  duration_s: 1\n  task: vergence\n  vergence: {gain: 0.25}\n",
-      kFile);
-  EXPECT_EQ(vergence.task, ControlTask::kVergence);
-  EXPECT_EQ(vergence.vergence.gain, 0.25);
-  EXPECT_TRUE(vergence.commands.empty());
-  ASSERT_TRUE(vergence.scene.has_value());
+TEST_F(GazeExperiment, TheHoldTaskStillLoads) {
   const ExperimentConfig hold = load_experiment_from_string(
-      "experiment:\n  name: h\n  rig: " + rig + "\n  duration_s: 1\n", kFile);
+      "experiment:\n  name: h\n  rig: " + test::shipped_rig_path("cambio.yaml") +
+          "\n  duration_s: 1\n",
+      kFile);
   EXPECT_EQ(hold.task, ControlTask::kHold);
+  EXPECT_TRUE(hold.commands.empty());
   EXPECT_FALSE(hold.scene.has_value());
+}
+
+TEST_F(GazeExperiment, AFileOfTheRetiredVergenceTaskIsToldWhereItWent) {
+  std::vector<std::string> found;
+  try {
+    load_experiment_from_string(
+        "experiment:\n  name: v\n  rig: " + test::shipped_rig_path("cambio.yaml") +
+            "\n  scene: " + scene_path_ +
+            "\n  duration_s: 1\n  task: vergence\n"
+            "  vergence: {gain: 0.25}\n",
+        kFile);
+    ADD_FAILURE() << "expected the experiment to be refused";
+  } catch (const ConfigError& error) {
+    for (const auto& issue : error.issues()) found.push_back(issue.to_string());
+  }
+  ASSERT_EQ(found.size(), 2u) << joined(found);
+  EXPECT_EQ(found[0],
+            "/tmp/gaze.yaml:6:9: experiment.task: expected one of hold, gaze, found \"vergence\"");
+  EXPECT_EQ(found[1],
+            "/tmp/gaze.yaml:7:13: experiment.vergence: task vergence was retired: use task gaze, "
+            "with these settings under gaze.vergence (the verging eye is the one "
+            "gaze.dominant_eye is not)");
 }
 
 TEST_F(GazeExperiment, TheShippedExperimentsCarryTheirScene) {
@@ -491,8 +505,9 @@ TEST_F(GazeExperiment, TheGazeTaskNeedsCommandsAStereoRigAndItsOwnVergenceKeys) 
   const auto old_vergence = issues(std::string(kHoldCommand) + "  vergence: {gain: 0.2}\n");
   ASSERT_EQ(old_vergence.size(), 1u) << joined(old_vergence);
   EXPECT_EQ(old_vergence[0],
-            "/tmp/gaze.yaml:8:13: experiment.vergence: task gaze reads gaze.vergence; "
-            "experiment.vergence is the vergence task's");
+            "/tmp/gaze.yaml:8:13: experiment.vergence: task vergence was retired: use task gaze, "
+            "with these settings under gaze.vergence (the verging eye is the one "
+            "gaze.dominant_eye is not)");
 
   const std::string pan_tilt = test::shipped_rig_path("pan_tilt.yaml");
   std::vector<std::string> mono;

@@ -10,7 +10,6 @@
 #include "cambio/config/map_reader.hpp"
 #include "cambio/config/rig_config.hpp"
 #include "cambio/config/scene_config.hpp"
-#include "cambio/hal/eye.hpp"
 
 namespace cambio::config {
 
@@ -21,21 +20,8 @@ enum class ExecutorKind : std::uint8_t {
 
 /// What the control loop does during the run.
 enum class ControlTask : std::uint8_t {
-  kHold,      ///< Hold the initial pose (the joint loop's limits and watchdog still act).
-  kVergence,  ///< The paper's experiment 1: verge one eye onto the dominant eye's fixation.
-  kGaze,      ///< The gaze loop: fixation, saccades, pursuit and vergence, run by `commands`.
-};
-
-/// The vergence controller's settings (control/vergence_controller.hpp). The member initialisers
-/// are the defaults for keys an experiment file leaves out, and the only copy of them: apps/ maps
-/// these onto control::VergenceParams, which has none of its own.
-struct VergenceTaskConfig {
-  hal::Eye verging_eye = hal::Eye::kRight;
-  double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.
-  double min_confidence = 0.3;  ///< Ignore measurements below this.
-  double max_step_rad = 0.05;   ///< Largest correction per measurement.
-  /// The run succeeds if |disparity| at the end is at most this (level-0 px); 0: not scored.
-  double goal_disparity_px = 1.0;
+  kHold,  ///< Hold the initial pose (the joint loop's limits and watchdog still act).
+  kGaze,  ///< The gaze loop: fixation, saccades, pursuit and vergence, run by `commands`.
 };
 
 /// What the run does when a drive fault or a lost drive is latched (`fault_recovery:`): by
@@ -58,7 +44,6 @@ struct ExperimentConfig {
   /// The perception (SSM) settings file; empty: the shipped default.
   std::string perception_path;
   ControlTask task = ControlTask::kHold;
-  VergenceTaskConfig vergence;
   /// kGaze only: the gaze loop's settings and its commands (at least one, in time order).
   GazeTaskConfig gaze;
   std::vector<GazeCommandConfig> commands;

@@ -15,8 +15,7 @@ namespace cambio::config {
 // control::GazeCommand and the gaze loop's parameters. The member initialisers are the defaults
 // for keys a file leaves out, and the only copy of them.
 
-/// The vergence of the eye that is not dominant (`gaze.vergence`); the keys, ranges and defaults
-/// of the vergence task's (VergenceTaskConfig).
+/// The vergence of the eye that is not dominant (`gaze.vergence`), by control::VergenceController.
 struct GazeVergenceConfig {
   bool enabled = true;
   double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.

@@ -231,7 +231,7 @@ TEST(CambioCli, AMissedGoalExitsOne) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_missed_goal";
   std::filesystem::remove_all(out_dir);
   const auto result = run_cambio(
-      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=0.3 "
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=1.0 "
       "--set experiment.goals.settle_time_s.max=0.01 --out '" +
       out_dir.string() + "'");
   EXPECT_EQ(result.exit_code, 1) << result.output;

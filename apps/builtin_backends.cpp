@@ -37,8 +37,12 @@ std::vector<can::CanFilter> node_filters(const hal::HardwareInfo& hardware,
 void register_builtin_backends(hal::BackendFactory& factory,
                                const config::ExperimentConfig& experiment,
                                can::CanTrafficLog* can_log) {
+  // The experiment's own copy of its scene (with its `scene.` overrides), so the sim's world and
+  // the experiment's object targets cannot disagree.
   config::SceneConfig scene;
-  if (!experiment.scene_path.empty()) {
+  if (experiment.scene) {
+    scene = *experiment.scene;
+  } else if (!experiment.scene_path.empty()) {
     scene = config::load_scene(config::resolve_config_argument("scenes", experiment.scene_path));
   } else {
     scene.name = "empty";

@@ -32,20 +32,84 @@ control::JointLoopParams joint_loop_params(const config::RigConfig& rig) {
   return params;
 }
 
-control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
-                                        const hal::HardwareInfo& hardware) {
-  if (!hardware.stereo) throw std::runtime_error("the vergence task needs a stereo rig");
-  const bool right_verges = experiment.vergence.verging_eye == hal::Eye::kRight;
-  const hal::CameraInfo* verging = hardware.find_camera(
-      right_verges ? hardware.stereo->right_camera : hardware.stereo->left_camera);
+namespace {
+
+control::GazeTarget gaze_target(const config::GazeTargetConfig& target) {
+  control::GazeTarget out;
+  switch (target.kind) {
+    case config::GazeTargetKind::kNone:
+      out.kind = control::GazeTargetKind::kNone;
+      break;
+    case config::GazeTargetKind::kPoint:
+      out.kind = control::GazeTargetKind::kPoint;
+      break;
+    case config::GazeTargetKind::kPixel:
+      out.kind = control::GazeTargetKind::kPixel;
+      break;
+    case config::GazeTargetKind::kAngles:
+      out.kind = control::GazeTargetKind::kAngles;
+      break;
+  }
+  out.point_W_m = target.point_W_m;
+  out.pixel_px = target.pixel_px;
+  out.angles_rad = target.angles_rad;
+  return out;
+}
+
+}  // namespace
+
+control::GazeAction gaze_action(config::GazeAction action) {
+  switch (action) {
+    case config::GazeAction::kHold:
+      return control::GazeAction::kHold;
+    case config::GazeAction::kFixate:
+      return control::GazeAction::kFixate;
+    case config::GazeAction::kSaccade:
+      return control::GazeAction::kSaccade;
+    case config::GazeAction::kPursue:
+      return control::GazeAction::kPursue;
+  }
+  return control::GazeAction::kHold;
+}
+
+control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
+                                         const hal::HardwareInfo& hardware) {
+  if (!hardware.stereo) throw std::runtime_error("the gaze task needs a stereo rig");
+  const config::GazeTaskConfig& gaze = experiment.gaze;
+  const hal::Eye verging_eye = hal::other(gaze.dominant_eye);
+  const hal::CameraInfo* verging =
+      hardware.find_camera(verging_eye == hal::Eye::kRight ? hardware.stereo->right_camera
+                                                           : hardware.stereo->left_camera);
   if (verging == nullptr) throw std::runtime_error("the stereo pair names an unknown camera");
-  control::VergenceParams params;
-  params.verging_eye = experiment.vergence.verging_eye;
-  params.focal_px = verging->intrinsics.focal_x_px;
-  params.gain = experiment.vergence.gain;
-  params.min_confidence = experiment.vergence.min_confidence;
-  params.max_step_rad = experiment.vergence.max_step_rad;
+  control::GazeLoopParams params;
+  params.fixation.dominant_eye = gaze.dominant_eye;
+  params.fixation.gain_per_s = gaze.fixation_gain_per_s;
+  params.fixation.neck_rule_rad = gaze.neck_rule_rad;
+  params.fixation.default_depth_m = gaze.default_depth_m;
+  params.vergence.verging_eye = verging_eye;
+  params.vergence.focal_px = verging->intrinsics.focal_x_px;
+  params.vergence.gain = gaze.vergence.gain;
+  params.vergence.min_confidence = gaze.vergence.min_confidence;
+  params.vergence.max_step_rad = gaze.vergence.max_step_rad;
+  params.vergence_enabled = gaze.vergence.enabled;
+  params.predictive_vergence = gaze.saccade.predictive_vergence;
+  params.pursuit_gain_per_s = gaze.pursuit.position_gain_per_s;
+  params.pursuit_lead = gaze.pursuit.velocity_gain;
   return params;
+}
+
+std::vector<control::CommandScript::Entry> command_script(
+    const config::ExperimentConfig& experiment) {
+  std::vector<control::CommandScript::Entry> entries;
+  for (const auto& command : experiment.commands) {
+    control::CommandScript::Entry entry;
+    entry.at_s = command.at_s;
+    entry.command.action = gaze_action(command.action);
+    entry.command.target = gaze_target(command.target);
+    entry.command.verge = command.verge;
+    entries.push_back(entry);
+  }
+  return entries;
 }
 
 }  // namespace cambio::app

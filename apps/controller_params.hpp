@@ -2,8 +2,9 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_config.hpp"
+#include "cambio/control/command_script.hpp"
+#include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
-#include "cambio/control/vergence_controller.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/runtime/scheduled_loop.hpp"
 
@@ -22,9 +23,16 @@ runtime::LoopSchedule loop_schedule(const config::RigConfig& rig, const std::str
 /// The joint loop's watchdogs from the rig's `loops.joint`.
 control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
 
-/// The vergence controller of the experiment: which eye verges, with the verging camera's focal
+/// The gaze loop of a `task: gaze` experiment: its `gaze:` settings, the verging camera's focal
 /// length. Throws std::runtime_error if the rig has no stereo pair.
-control::VergenceParams vergence_params(const config::ExperimentConfig& experiment,
-                                        const hal::HardwareInfo& hardware);
+control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
+                                         const hal::HardwareInfo& hardware);
+
+/// The config's name for a gaze action as the gaze loop's (the same enumerators).
+control::GazeAction gaze_action(config::GazeAction action);
+
+/// The experiment's `commands:` as the command script's timeline.
+std::vector<control::CommandScript::Entry> command_script(
+    const config::ExperimentConfig& experiment);
 
 }  // namespace cambio::app

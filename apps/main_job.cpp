@@ -1,5 +1,6 @@
 #include "main_job.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -10,6 +11,7 @@
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
 
 namespace cambio::app {
@@ -120,6 +122,7 @@ void MainJob::build_loops() {
       }
     }
     JointLoopSlot slot;
+    slot.rig_indices = params.target_indices;
     slot.states = std::make_unique<hal::SeqlockChannel<control::JointStateFrame>>();
     slot.loop = std::make_unique<control::JointLoop>(std::move(loop_groups), targets_, *slot.states,
                                                      std::move(params));
@@ -150,22 +153,25 @@ void MainJob::build_loops() {
         hardware_.cameras[stereo->right], ssm);
   }
 
-  if (experiment_.task == config::ControlTask::kVergence) {
-    if (!perception_loop_) throw std::runtime_error("the vergence task needs a stereo rig");
-    const control::VergenceParams params = vergence_params(experiment_, hardware_);
-    const bool right_verges = params.verging_eye == hal::Eye::kRight;
-    const auto& verging = hardware_.cameras[right_verges ? stereo->right : stereo->left];
-    const auto& dominant = hardware_.cameras[right_verges ? stereo->left : stereo->right];
-    auto loop = std::make_unique<control::VergenceLoop>(
-        control::VergenceController(params), pose, joint_index(verging.parent_frame),
-        joint_index(dominant.parent_frame), perception_loop_->summaries(), targets_);
-    vergence_loop_ = loop.get();
+  if (experiment_.task == config::ControlTask::kGaze) {
+    if (!perception_loop_) throw std::runtime_error("the gaze task needs a stereo rig");
+    std::vector<control::BelievedJoints::Source> sources;
+    for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
+    auto loop = std::make_unique<control::GazeLoop>(
+        hardware_, gaze_loop_params(experiment_, hardware_), pose,
+        control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
+        perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
+    gaze_loop_ = loop.get();
     control_loop_ = std::move(loop);
+    // The script runs at the control rate, before the gaze loop in each lockstep tick.
+    script_ = std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_);
+    executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
   } else {
     control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
   }
 
   executor_->add_loop({control_loop_.get(), loop_schedule(rig, "control")});
+  build_trace();
   executor_->add_loop({camera_loop_.get(), loop_schedule(rig, "camera")});
   if (perception_loop_) {
     executor_->add_loop({perception_loop_.get(), loop_schedule(rig, "perception")});
@@ -176,6 +182,60 @@ void MainJob::build_loops() {
           {backend_loop.loop, runtime::LoopSchedule{backend_loop.rate_hz, backend_loop.priority}});
     }
   }
+}
+
+void MainJob::build_trace() {
+  // The trace needs the simulator's ground truth and something to look with.
+  const auto sim = backends_.find("sim");
+  if (sim == backends_.end() || !hardware_.stereo || !perception_loop_) return;
+  hal::Eye dominant = hal::Eye::kLeft;
+  if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
+  const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
+    return *hardware_.find_camera(eye == hal::Eye::kLeft ? hardware_.stereo->left_camera
+                                                         : hardware_.stereo->right_camera);
+  };
+  TraceSources sources;
+  sources.joint_names = joint_order_;
+  sources.targets = &targets_;
+  for (const auto& slot : joint_loops_)
+    sources.believed.push_back({slot.states.get(), slot.rig_indices});
+  sources.gaze = gaze_loop_ != nullptr ? &gaze_loop_->status() : nullptr;
+  sources.ssm = &perception_loop_->summaries();
+  sources.truth = &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
+  sources.dominant_camera = camera_of(dominant).name;
+  sources.verging_camera = camera_of(hal::other(dominant)).name;
+  sources.dominant_pan_joint = camera_of(dominant).parent_frame;
+  sources.verging_pan_joint = camera_of(hal::other(dominant)).parent_frame;
+  sources.target_object = experiment_.evaluation.target_object;
+  sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
+  // At the control rate, but as evaluation: never at a real-time priority or pinned beside the
+  // loops it watches (its ground-truth queries and key-frame renders take milliseconds).
+  runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
+  schedule.priority = 0;
+  schedule.cpu = -1;
+  trace_ =
+      std::make_unique<TraceRecorder>(std::move(sources), schedule.rate_hz, experiment_.duration_s);
+  executor_->add_loop({trace_.get(), schedule});
+}
+
+std::vector<std::string> MainJob::head_joint_names() const {
+  std::vector<std::string> names;
+  if (!hardware_.stereo) return names;
+  // Up the left eye's chain (eye pan, eye tilt, neck tilt, neck pan), then the right eye's pan.
+  std::vector<std::string> chain;
+  for (const std::string* link =
+           &hardware_.find_camera(hardware_.stereo->left_camera)->parent_frame;
+       *link != "base";) {
+    const hal::JointInfo* joint = hardware_.find_joint(*link);
+    if (joint == nullptr) break;
+    chain.insert(chain.begin(), joint->name);
+    link = &joint->parent;
+  }
+  names = chain;
+  const std::string& right_pan =
+      hardware_.find_camera(hardware_.stereo->right_camera)->parent_frame;
+  if (std::find(names.begin(), names.end(), right_pan) == names.end()) names.push_back(right_pan);
+  return names;
 }
 
 MainJobResult MainJob::run(const std::atomic<bool>& stop,
@@ -217,9 +277,16 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
     perception::SsmSummary summary;
     if (perception_loop_->summaries().read(summary)) result.perception = summary;
   }
-  if (vergence_loop_ != nullptr) {
-    control::VergenceStatus status;
-    if (vergence_loop_->status().read(status)) result.vergence = status;
+  if (gaze_loop_ != nullptr) {
+    control::GazeStatus status;
+    if (gaze_loop_->status().read(status)) result.gaze = status;
+    result.gaze_rejected_commands = gaze_loop_->rejected_commands();
+    result.gaze_corrections = gaze_loop_->corrections();
+    result.gaze_measurements = gaze_loop_->measurements();
+    for (const std::int64_t sent_ns : script_->sent_ns()) {
+      result.command_sent_s.push_back(
+          sent_ns < 0 ? -1.0 : static_cast<double>(sent_ns - script_->start_ns()) * 1e-9);
+    }
   }
   if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
     const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);

@@ -10,9 +10,10 @@
 
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/experiment_config.hpp"
+#include "cambio/control/command_script.hpp"
+#include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/rig_hold.hpp"
-#include "cambio/control/vergence_loop.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/joint_state_tap.hpp"
@@ -20,6 +21,7 @@
 #include "cambio/perception/ssm_server.hpp"
 #include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
+#include "run_trace.hpp"
 
 namespace cambio::app {
 
@@ -45,8 +47,13 @@ struct MainJobResult {
   double simulated_s = 0.0;
   double wall_s = 0.0;
   std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
-  std::optional<control::VergenceStatus> vergence;   ///< If the task was vergence.
-  std::vector<CanGroupReport> can_groups;            ///< One per socketcan group.
+  std::optional<control::GazeStatus> gaze;           ///< If the task was gaze: the last status.
+  std::uint64_t gaze_rejected_commands = 0;
+  std::uint64_t gaze_corrections = 0;
+  std::uint64_t gaze_measurements = 0;
+  /// The scripted commands' send times (s from the script's start; -1: not sent).
+  std::vector<double> command_sent_s;
+  std::vector<CanGroupReport> can_groups;  ///< One per socketcan group.
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):
@@ -77,12 +84,18 @@ class MainJob {
   /// arrived.
   std::vector<const hal::Image*> last_frames();
   const std::vector<hal::CameraInfo>& cameras() const { return hardware_.cameras; }
+  /// What the run recorded at the control rate with the simulator's ground truth (trace.csv,
+  /// metrics, plots); null when the rig has no sim backend or no stereo pair. Read after run().
+  const Trace* trace() const { return trace_ ? &trace_->trace() : nullptr; }
+  /// The head's joints in the trace (pan/tilt of neck and eyes), for plots.
+  std::vector<std::string> head_joint_names() const;
   /// Paced by the wall clock (realtime executor) rather than simulated time.
   bool realtime() const { return realtime_; }
 
  private:
   void build_backends(const hal::BackendFactory& factory);
   void build_loops();
+  void build_trace();
   int joint_index(const std::string& joint_name) const;
 
   config::ExperimentConfig experiment_;
@@ -100,6 +113,7 @@ class MainJob {
   /// A joint loop and the states it publishes (its own joints, in its groups' order).
   struct JointLoopSlot {
     std::unique_ptr<hal::SeqlockChannel<control::JointStateFrame>> states;
+    std::vector<int> rig_indices;  // Where its joints sit in rig order.
     std::unique_ptr<control::JointLoop> loop;
   };
 
@@ -107,7 +121,10 @@ class MainJob {
   control::RigHold rig_hold_;                               // Outlives the joint loops.
   std::vector<JointLoopSlot> joint_loops_;
   std::unique_ptr<hal::Loop> control_loop_;
-  control::VergenceLoop* vergence_loop_ = nullptr;  // control_loop_ when the task is vergence.
+  control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
+  hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
+  std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
+  std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
 };

@@ -1,8 +1,8 @@
 // `cambio run EXPERIMENT.yaml`: the main job (main_job.hpp) with its report.
-#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <memory>
+#include <numbers>
 #include <optional>
 
 #include "argument_parser.hpp"
@@ -10,12 +10,15 @@
 #include "cambio/can/can_traffic_log.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "controller_params.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
 #include "main_job.hpp"
 #include "output_directory.hpp"
 #include "peak_rss.hpp"
 #include "progress_reporter.hpp"
+#include "run_metrics.hpp"
+#include "run_plots.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
@@ -27,8 +30,15 @@ struct RunOutcome {
   std::string signal_name;  ///< Set when a signal stopped the run.
 };
 
+/// What the trace says about the run: its metrics and the experiment's goals on them.
+struct RunEvaluation {
+  RunMetrics metrics;
+  std::vector<GoalResult> goals;
+};
+
 Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result,
-                  const RunOutcome& outcome) {
+                  const RunOutcome& outcome, const Trace* trace,
+                  const std::optional<RunEvaluation>& evaluation) {
   Json json;
   json["experiment"] = experiment.name;
   json["outcome"] = outcome.name;
@@ -55,11 +65,25 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                           {"disparity_px", d.disparity_px},
                           {"confidence", d.confidence}};
   }
-  if (result.vergence) {
-    json["vergence"] = {{"measurements", result.vergence->measurements},
-                        {"corrections", result.vergence->corrections},
-                        {"final_disparity_px", result.vergence->disparity_px},
-                        {"verging_eye_target_rad", result.vergence->verging_target_rad}};
+  if (result.gaze) {
+    const control::GazeStatus& gaze = *result.gaze;
+    json["gaze"] = {{"commands_applied", gaze.commands_applied},
+                    {"commands_rejected", result.gaze_rejected_commands},
+                    {"disparity_measurements", result.gaze_measurements},
+                    {"vergence_corrections", result.gaze_corrections},
+                    {"final_action", gaze_action_name(gaze.action)},
+                    {"final_vergence_rad", gaze.vergence_rad}};
+  }
+  if (evaluation) {
+    json["metrics"] = metrics_json(evaluation->metrics);
+    json["goals"] = goals_json(evaluation->goals);
+    json["passed"] = all_passed(evaluation->goals);
+  }
+  if (trace != nullptr) {
+    json["final_joints"] = final_joints_json(*trace);
+    json["trace"] = {{"rows", trace->rows.size()},
+                     {"truncated", trace->truncated},
+                     {"problems", trace->problems}};
   }
   Json over_budget = Json::array();
   json["loops"] = Json::array();
@@ -84,6 +108,50 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
   json["allocation_gate"] = {{"passed", over_budget.empty()},
                              {"loops_that_allocated", over_budget}};
   return json;
+}
+
+/// When the scripted command of `action` last went out (s since the run's start), if it did.
+std::optional<double> last_command_time(const config::ExperimentConfig& experiment,
+                                        const MainJobResult& result, config::GazeAction action) {
+  std::optional<double> time_s;
+  for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
+    if (experiment.commands[i].action == action && result.command_sent_s[i] >= 0.0) {
+      time_s = result.command_sent_s[i];
+    }
+  }
+  return time_s;
+}
+
+RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const MainJobResult& result,
+                           const Trace& trace) {
+  MetricInputs inputs;
+  for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
+    if (result.command_sent_s[i] < 0.0) continue;  // The run ended before it was due.
+    inputs.commands.push_back(
+        {result.command_sent_s[i], gaze_action(experiment.commands[i].action)});
+  }
+  inputs.settle_disparity_px = experiment.evaluation.settle.disparity_px;
+  inputs.settle_gaze_error_deg =
+      experiment.evaluation.settle.gaze_error_rad * 180.0 / std::numbers::pi;
+  inputs.pursuit_catch_up_s = experiment.evaluation.pursuit_catch_up_s;
+  RunEvaluation evaluation{compute_metrics(trace, inputs), {}};
+  evaluation.goals = evaluate_goals(evaluation.metrics, experiment.goals);
+  return evaluation;
+}
+
+void print_evaluation(const RunEvaluation& evaluation) {
+  std::cout << "metrics:";
+  for (const auto& [name, value] : evaluation.metrics.values)
+    std::cout << " " << name << "=" << value;
+  std::cout << "\n";
+  for (const auto& goal : evaluation.goals) {
+    std::cout << "goal " << goal.goal.metric
+              << (goal.goal.bound == config::GoalBound::kMax ? " <= " : " >= ") << goal.goal.value
+              << ": " << (goal.value ? std::to_string(*goal.value) : std::string("absent")) << " "
+              << (goal.passed ? "met"
+                              : "NOT met" + (goal.reason.empty() ? "" : " (" + goal.reason + ")"))
+              << "\n";
+  }
 }
 
 /// How the run ended and the exit status that says so. Precedence: a signal over a device fault
@@ -197,17 +265,11 @@ int run_run_command(std::span<const std::string> args) {
               << " (confidence " << d.confidence << ")\n";
   }
   bool goal_failed = false;
-  if (result.vergence) {
-    const double goal = experiment.vergence.goal_disparity_px;
-    const bool verged = result.vergence->valid && std::abs(result.vergence->disparity_px) <= goal;
-    std::cout << "vergence: " << result.vergence->corrections << " corrections from "
-              << result.vergence->measurements << " measurements; final disparity "
-              << result.vergence->disparity_px << " px (goal |d| <= " << goal << " px): "
-              << (goal <= 0 ? "not scored"
-                  : verged  ? "verged"
-                            : "NOT verged")
-              << "\n";
-    goal_failed = goal > 0 && !verged;
+  std::optional<RunEvaluation> evaluation;
+  if (const Trace* trace = job->trace()) {
+    evaluation = evaluate_run(experiment, result, *trace);
+    print_evaluation(*evaluation);
+    goal_failed |= !all_passed(evaluation->goals);
   }
   for (const auto& loop : result.loops) {
     if (runtime::passes_allocation_gate(loop)) continue;
@@ -238,7 +300,23 @@ int run_run_command(std::span<const std::string> args) {
       if (frames[i]->sequence == 0) continue;
       out->stage(job->cameras()[i].name + ".png", encode_png(*frames[i]));
     }
-    out->stage("summary.json", json_text(summary_json(experiment, result, outcome)));
+    if (const Trace* trace = job->trace()) {
+      stage_trace(*out, *trace);
+      PlotInputs plots;
+      plots.title = experiment.name;
+      plots.joints = job->head_joint_names();
+      if (evaluation) {
+        const auto saccade = evaluation->metrics.find("saccade_duration_s");
+        const auto start = last_command_time(experiment, result, config::GazeAction::kSaccade);
+        if (saccade && start) {
+          plots.saccade_start_s = *start;
+          plots.saccade_end_s = *start + *saccade;
+        }
+      }
+      stage_plots(*out, *trace, plots);
+    }
+    out->stage("summary.json",
+               json_text(summary_json(experiment, result, outcome, job->trace(), evaluation)));
     out->commit();
     std::cerr << "cambio run: wrote " << out->path().string() << " (" << out->files().size()
               << " files)\n";

@@ -23,7 +23,9 @@ packages=(
   libmujoco-dev libqhull-dev
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
   libopencv-dev
+  libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libplplot-dev plplot-driver-cairo
   clang-format
 )
 
@@ -53,7 +55,7 @@ case "$mode" in
   build) ;;
   run)
     if [ $# -eq 0 ]; then
-      set -- "$root/firmware_config/experiments/sim_default.yaml" --out "$root/out"
+      set -- "$root/firmware_config/experiments/vergence_sphere.yaml" --out "$root/out"
     fi
     "$build_dir/bin/cambio" run "$@"
     ;;

@@ -3,16 +3,30 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_loader.hpp"
+#include "experiment_sections.hpp"
 #include "format.hpp"
 
 namespace cambio::config {
 
 namespace {
 
+/// The command-line overrides of an experiment, by the file they apply to.
+struct SplitOverrides {
+  std::vector<ConfigOverride> experiment;
+  std::vector<ConfigOverride> rig;    ///< `rig.` removed.
+  std::vector<ConfigOverride> scene;  ///< `scene.` removed.
+};
+
+/// Adds every issue of `error` (another file's) to `document`'s.
+void add_issues(ConfigDocument& document, const ConfigError& error) {
+  for (const auto& issue : error.issues()) document.issues()->add(issue);
+}
+
 /// Reads the experiment in `document` (from file `path`, against whose folder relative paths
-/// resolve), loads the rig it names with `rig_overrides`, and throws every problem of both.
+/// resolve), loads the rig and scene it names with their overrides, and throws every problem of
+/// the three.
 ExperimentConfig read_experiment(ConfigDocument& document, const std::string& path,
-                                 const std::vector<ConfigOverride>& rig_overrides) {
+                                 const SplitOverrides& overrides) {
   MapReader root = document.root();
   MapReader experiment = root.map("experiment");
   root.finish();
@@ -53,9 +67,8 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
                         "a day; a run's cycles, progress and records grow with its duration"));
   const std::string perception_file = experiment.text_or("perception", "");
   config.perception_path = resolve(perception_file);
-  config.task = experiment.choice_or("task", {"hold", "vergence"}, "hold") == "vergence"
-                    ? ControlTask::kVergence
-                    : ControlTask::kHold;
+  const std::string task = experiment.choice_or("task", {"hold", "gaze"}, "hold");
+  config.task = task == "gaze" ? ControlTask::kGaze : ControlTask::kHold;
   if (auto recovery = experiment.optional_map("fault_recovery")) {
     FaultRecoveryConfig& r = config.fault_recovery;
     r.after_s = recovery->number_or("after_s", r.after_s, Range::closed(0.0, 3600.0));
@@ -63,34 +76,58 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
         recovery->integer_or("max_recoveries", r.max_recoveries, Range::closed(0, 1000)));
     recovery->finish();
   }
-  if (auto vergence = experiment.optional_map("vergence")) {
-    // Keys left out keep VergenceTaskConfig's member initialisers, the one place of the defaults.
-    VergenceTaskConfig& v = config.vergence;
-    const std::string verging_eye = vergence->choice_or("verging_eye", {"left", "right"},
-                                                        std::string(hal::to_string(v.verging_eye)));
-    v.verging_eye = verging_eye == "left" ? hal::Eye::kLeft : hal::Eye::kRight;
-    v.gain = vergence->number_or("gain", v.gain, {0.0, 1.0, true, false});
-    v.min_confidence = vergence->number_or("min_confidence", v.min_confidence, Range::closed(0, 1));
-    v.max_step_rad = vergence->angle_rad_or("max_step", v.max_step_rad, Range::positive());
-    v.goal_disparity_px =
-        vergence->number_or("goal_disparity_px", v.goal_disparity_px, Range::non_negative());
-    vergence->finish();
+  // The vergence task (a top-level `vergence:`) was retired for the gaze task's vergence; the key
+  // is read here so that an old file is told where it went rather than that it is unknown.
+  if (experiment.optional_map("vergence")) {
+    experiment.error("vergence",
+                     "task vergence was retired: use task gaze, with these settings under "
+                     "gaze.vergence (the verging eye is the one gaze.dominant_eye is not)");
   }
+  // The scene is loaded before the sections that name its objects.
+  const bool scene_readable = check_named_file("scene", "scene", scene_file, config.scene_path);
+  if (scene_readable) {
+    try {
+      config.scene = load_scene(config.scene_path, overrides.scene);
+    } catch (const ConfigError& error) {
+      add_issues(document, error);
+    }
+  } else if (scene_file.empty()) {
+    for (const auto& override_entry : overrides.scene) {
+      document.issues()->add({"--set", 0, 0, "scene." + override_entry.key_path,
+                              "the experiment names no scene (experiment.scene) to set it in"});
+    }
+  }
+  const SceneForSections scene{config.scene ? &*config.scene : nullptr, !scene_file.empty()};
+  // Pixel targets are checked against the dominant eye's image once the rig is loaded.
+  std::vector<PendingPixelTarget> pixel_targets;
+  if (config.task == ControlTask::kGaze) {
+    if (auto gaze = experiment.optional_map("gaze")) config.gaze = read_gaze_task(std::move(*gaze));
+    config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
+  } else {
+    for (const std::string_view key : {"gaze", "commands"}) {
+      if (experiment.has(key)) {
+        experiment.error(key, "only task gaze reads " + std::string(key) + " (task is hold)");
+      }
+    }
+  }
+  if (auto evaluation = experiment.optional_map("evaluation")) {
+    config.evaluation = read_evaluation(std::move(*evaluation), config.duration_s, scene);
+  }
+  config.goals = read_goals(experiment);
   config.seed = static_cast<std::uint64_t>(
       experiment.integer_or("seed", 0, Range::closed(0, 9.007199254740992e15)));
   const bool rig_readable = check_named_file("rig", "rig", rig_file, config.rig_path);
   check_named_file("perception", "perception config", perception_file, config.perception_path);
-  check_named_file("scene", "scene", scene_file, config.scene_path);
   // The initial pose names rig joints, so it is checked once the rig is loaded. Problems of
   // both files are reported together.
   std::optional<MapReader> pose = experiment.optional_map("initial_pose");
   bool rig_loaded = false;
   if (rig_readable) {
     try {
-      config.rig = load_rig(config.rig_path, rig_overrides);
+      config.rig = load_rig(config.rig_path, overrides.rig);
       rig_loaded = true;
     } catch (const ConfigError& error) {
-      for (const auto& issue : error.issues()) document.issues()->add(issue);
+      add_issues(document, error);
     }
   }
   if (!rig_loaded) {
@@ -107,46 +144,51 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
     }
     pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
   }
-  if (config.task == ControlTask::kVergence && !config.rig.stereo) {
-    experiment.error("task",
-                     "expected a rig with a stereo pair for the vergence task, found "
-                     "none in " +
-                         config.rig_path);
+  if (config.task != ControlTask::kHold && !config.rig.stereo) {
+    experiment.error("task", "expected a rig with a stereo pair for the " + task +
+                                 " task, found none in " + config.rig_path);
+  }
+  if (config.rig.stereo && !pixel_targets.empty()) {
+    const StereoConfig& stereo = *config.rig.stereo;
+    const CameraConfig* dominant = config.rig.find_camera(
+        config.gaze.dominant_eye == hal::Eye::kLeft ? stereo.left_camera : stereo.right_camera);
+    if (dominant != nullptr) check_pixel_targets(pixel_targets, *dominant);
   }
   experiment.finish();
   document.issues()->throw_if_any();
   return config;
 }
 
-/// Splits `overrides` into the experiment's and the rig's (`rig.` prefix removed).
-std::pair<std::vector<ConfigOverride>, std::vector<ConfigOverride>> split_overrides(
-    const std::vector<ConfigOverride>& overrides) {
-  std::vector<ConfigOverride> experiment_overrides;
-  std::vector<ConfigOverride> rig_overrides;
+/// Splits `overrides` into the experiment's, the rig's (`rig.` prefix removed) and the scene's
+/// (`scene.` removed).
+SplitOverrides split_overrides(const std::vector<ConfigOverride>& overrides) {
+  SplitOverrides split;
   for (const auto& override_entry : overrides) {
     if (override_entry.key_path.starts_with("rig.")) {
-      rig_overrides.push_back({override_entry.key_path.substr(4), override_entry.value});
+      split.rig.push_back({override_entry.key_path.substr(4), override_entry.value});
+    } else if (override_entry.key_path.starts_with("scene.")) {
+      split.scene.push_back({override_entry.key_path.substr(6), override_entry.value});
     } else {
-      experiment_overrides.push_back(override_entry);
+      split.experiment.push_back(override_entry);
     }
   }
-  return {experiment_overrides, rig_overrides};
+  return split;
 }
 
 }  // namespace
 
 ExperimentConfig load_experiment(const std::string& path,
                                  const std::vector<ConfigOverride>& overrides) {
-  const auto [experiment_overrides, rig_overrides] = split_overrides(overrides);
-  ConfigDocument document = ConfigDocument::load_file(path, experiment_overrides);
-  return read_experiment(document, path, rig_overrides);
+  const SplitOverrides split = split_overrides(overrides);
+  ConfigDocument document = ConfigDocument::load_file(path, split.experiment);
+  return read_experiment(document, path, split);
 }
 
 ExperimentConfig load_experiment_from_string(const std::string& yaml, const std::string& name,
                                              const std::vector<ConfigOverride>& overrides) {
-  const auto [experiment_overrides, rig_overrides] = split_overrides(overrides);
-  ConfigDocument document = ConfigDocument::from_string(yaml, name, experiment_overrides);
-  return read_experiment(document, name, rig_overrides);
+  const SplitOverrides split = split_overrides(overrides);
+  ConfigDocument document = ConfigDocument::from_string(yaml, name, split.experiment);
+  return read_experiment(document, name, split);
 }
 
 }  // namespace cambio::config

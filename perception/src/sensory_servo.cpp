@@ -137,6 +137,9 @@ hal::Status SensoryServo::process(const hal::Image& left, const hal::Image& righ
                                           config_.retina.width_px * config_.retina.height_px;
       motion_[eye]->estimate(*retinas_[eye], summary.motion[eye],
                              sized ? out.temporal[eye].data() : nullptr);
+    } else {
+      // The next requested estimate must not compare against a frame from before the gap.
+      motion_[eye]->reset();
     }
   }
   const auto motion_done = SteadyClock::now();

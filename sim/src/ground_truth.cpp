@@ -1,9 +1,11 @@
 #include "cambio/sim/ground_truth.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
 
+#include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "sim_camera.hpp"
 
@@ -88,6 +90,86 @@ Eigen::Isometry3d GroundTruth::X_WL(const std::string& link_name) {
       link_name == "base" ? 0 : mj_name2id(world_.model(), mjOBJ_BODY, link_name.c_str());
   if (body < 0) throw std::out_of_range("no link named '" + link_name + "' in the sim world");
   return pose_from(data_->xpos + 3 * body, data_->xmat + 9 * body);
+}
+
+RayHit GroundTruth::cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& direction_W,
+                             std::string_view ignore_object) {
+  const double length = direction_W.norm();
+  if (!(length > 0.0) || !std::isfinite(length) || !p_W.allFinite()) {
+    throw std::invalid_argument("a ray needs a finite origin and a non-zero, finite direction");
+  }
+  int exclude_body = -1;
+  int exclude_geom = -1;
+  if (!ignore_object.empty()) {
+    for (const auto& object : world_.objects()) {
+      if (object.name == ignore_object) exclude_body = object.body_id;
+    }
+    if (exclude_body < 0) {
+      // Scene geometry that is no object (the floor), as RayHit::object names it.
+      const std::string name(ignore_object);
+      exclude_geom = mj_name2id(world_.model(), mjOBJ_GEOM, name.c_str());
+      if (exclude_geom < 0 || world_.model()->geom_group[exclude_geom] != kSceneGeomGroup) {
+        throw std::out_of_range("no object named '" + name + "' in the scene");
+      }
+    }
+  }
+  const Eigen::Vector3d unit = direction_W / length;
+  refresh();
+  std::lock_guard<std::mutex> lock(mutex_);
+  const mjModel* model = world_.model();
+  // Scene geoms only: the robot's are in kRobotGeomGroup / kHiddenFromEyesGeomGroup and the
+  // eyes' sky planes in kEyeSkyGeomGroup (mjcf_builder.cpp). mj_ray's group filter cannot say
+  // this: MuJoCo 2.2 lets every plane through it (the sky planes would stop every ray), so the
+  // geoms are tested one by one with the same per-shape intersections mj_ray uses.
+  int geom = -1;
+  double distance = -1.0;
+  for (int i = 0; i < model->ngeom; ++i) {
+    if (model->geom_group[i] != kSceneGeomGroup || model->geom_bodyid[i] == exclude_body ||
+        i == exclude_geom) {
+      continue;
+    }
+    double d = -1.0;
+    switch (model->geom_type[i]) {
+      case mjGEOM_MESH:
+        d = mj_rayMesh(model, data_, i, p_W.data(), unit.data());
+        break;
+      case mjGEOM_HFIELD:
+        d = mj_rayHfield(model, data_, i, p_W.data(), unit.data());
+        break;
+      default:
+        d = mju_rayGeom(data_->geom_xpos + 3 * i, data_->geom_xmat + 9 * i,
+                        model->geom_size + 3 * i, p_W.data(), unit.data(), model->geom_type[i]);
+        break;
+    }
+    if (d >= 0.0 && (geom < 0 || d < distance)) {
+      geom = i;
+      distance = d;
+    }
+  }
+  RayHit result;
+  if (distance < 0.0 || geom < 0) return result;
+  result.hit = true;
+  result.distance_m = distance;
+  result.p_W = p_W + distance * unit;
+  const int body = model->geom_bodyid[geom];
+  for (const auto& object : world_.objects()) {
+    if (object.body_id == body) result.object = object.name;
+  }
+  if (result.object.empty()) {
+    const char* name = mj_id2name(model, mjOBJ_GEOM, geom);
+    if (name != nullptr) result.object = name;
+  }
+  return result;
+}
+
+RayHit GroundTruth::segment_blocker(const Eigen::Vector3d& p_from_W, const Eigen::Vector3d& p_to_W,
+                                    std::string_view ignore_object, double tolerance_m) {
+  const Eigen::Vector3d segment = p_to_W - p_from_W;
+  const double length = segment.norm();
+  if (!(length > tolerance_m)) return {};
+  RayHit hit = cast_ray(p_from_W, segment, ignore_object);
+  if (hit.hit && hit.distance_m < length - tolerance_m) return hit;
+  return {};
 }
 
 void GroundTruth::render(const std::string& camera_name, int width_px, int height_px,

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 using testing::run_cambio;
 
 const std::string kQuickRun =
-    "run firmware_config/experiments/sim_default.yaml --set experiment.task=hold "
+    "run tests/apps/data/sim_hold.yaml "
     "--set experiment.duration_s=0.2 ";
 
 bool contains(const std::string& text, const std::string& part) {
@@ -61,7 +61,8 @@ TEST(Outputs, ABadOutIsRefusedBeforeAnyWork) {
   const auto started = std::chrono::steady_clock::now();
   // A 60 s run: refused before it starts, or this test takes a minute.
   auto result = run_cambio(
-      "run firmware_config/experiments/sim_default.yaml --set experiment.duration_s=60 --out '" +
+      "run firmware_config/experiments/vergence_sphere.yaml --set experiment.duration_s=60 --out "
+      "'" +
       file.string() + "'");
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_TRUE(contains(result.output, "is not a directory")) << result.output;
@@ -90,8 +91,10 @@ TEST(Outputs, ARunReplacesThePreviousRunsFilesAsASet) {
   const fs::path dir = fresh_directory("set");
   ASSERT_EQ(run_cambio(kQuickRun + "--out '" + dir.string() + "'").exit_code, 0);
   const std::set<std::string> first = names_in(dir);
+  // A sim run with a stereo head also leaves its trace and plots (no key frames asked here).
   EXPECT_EQ(first, (std::set<std::string>{".cambio-lock", ".cambio-manifest.json", "left_eye.png",
-                                          "right_eye.png", "summary.json"}));
+                                          "right_eye.png", "summary.json", "trace.csv",
+                                          "plot_gaze.png", "plot_joints.png"}));
   // Pretend the previous run also wrote a file this run will not: it must not stay behind.
   std::ofstream(dir / "overview.png") << "from an earlier run";
   nlohmann::json manifest = read_json(dir / ".cambio-manifest.json");
@@ -154,7 +157,7 @@ testing::CommandResult interrupt_run(const std::string& signal, const fs::path& 
   // A log left by an earlier run would say "started" before this one has installed its handlers.
   fs::remove(log);
   return run_in_shell(
-      "\"$CAMBIO\" run firmware_config/experiments/sim_default.yaml --set experiment.task=hold "
+      "\"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
       "--set experiment.duration_s=60 --out '" +
       out.string() + "' 2>'" + log.string() + "' & pid=$!; until grep -q 'executor' '" +
       log.string() + "' 2>/dev/null; do sleep 0.05; done; sleep 0.5; kill -" + signal +

@@ -14,7 +14,7 @@ run_step("configure consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WO
          -DCMAKE_PREFIX_PATH=${prefix})
 run_step("build consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run_step("run consumer" ${WORK_DIR}/build/cambio_consumer
-         ${prefix}/share/cambio/firmware_config/experiments/sim_default.yaml)
+         ${prefix}/share/cambio/firmware_config/experiments/vergence_sphere.yaml)
 if(NOT EXISTS ${prefix}/bin/cambio)
   message(FATAL_ERROR "the install prefix has no bin/cambio")
 endif()

@@ -1,10 +1,13 @@
 // Uses the installed libraries the way a user's driver or tool would: the HAL's types, the
-// config loader, the lockstep executor, the perception kernels and the sim backend's factory.
+// config loader, the lockstep executor, the perception kernels, the sim backend's factory and the
+// gaze's fixation servo (whose ViSP stays private to cambio::control: this project never names it).
 #include <cstdio>
+#include <vector>
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
+#include "cambio/control/fixation_servo.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
@@ -47,9 +50,21 @@ int main(int argc, char** argv) {
   cambio::sim::register_sim_backend(factory, experiment.rig, cambio::config::SceneConfig{});
   const cambio::hal::HardwareInfo hardware = cambio::config::hardware_description(experiment.rig);
 
-  const bool ok = image.pixels.size() == 36 && value == 1.5 && experiment.rig.joints.size() == 15 &&
-                  hardware.joints.size() == 15 && hardware.stereo.has_value() &&
-                  !experiment.perception_path.empty() && loop.cycles == 100 && factory.has("sim") &&
+  cambio::control::FixationParams fixation;
+  fixation.gain_per_s = 4.0;
+  fixation.neck_rule_rad = 0.5236;
+  fixation.default_depth_m = 1.0;
+  cambio::control::FixationServo servo(hardware, fixation);
+  std::vector<double> q(hardware.joints.size(), 0.0);
+  std::vector<double> qdot(hardware.joints.size(), 0.0);
+  const bool servo_ok = servo.velocity(q, Eigen::Vector4d(1.0, 0.3, 1.4, 1.0), 0.0, qdot) ==
+                            cambio::hal::Status::kOk &&
+                        qdot[static_cast<std::size_t>(servo.head().eye_pan[0])] > 0.0;
+
+  const bool ok = servo_ok && image.pixels.size() == 36 && value == 1.5 &&
+                  experiment.rig.joints.size() == 15 && hardware.joints.size() == 15 &&
+                  hardware.stereo.has_value() && !experiment.perception_path.empty() &&
+                  loop.cycles == 100 && factory.has("sim") &&
                   cambio::perception::gaussian_half_width(1.4, 3.0) == 5;
   std::printf("consumer: %s\n", ok ? "ok" : "MISMATCH");
   return ok ? 0 : 1;

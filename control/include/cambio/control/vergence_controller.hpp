@@ -5,7 +5,7 @@
 namespace cambio::control {
 
 /// The controller's settings. No tuning defaults here: they come from the experiment file
-/// (config::VergenceTaskConfig holds the defaults for keys it leaves out, and apps/ copies them
+/// (config::GazeVergenceConfig holds the defaults for keys it leaves out, and apps/ copies them
 /// in). The zeros below are refused by the controller, so a field left unset cannot pass.
 struct VergenceParams {
   /// The other eye is dominant: it keeps its fixation point.

@@ -1,12 +1,15 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "cambio/config/experiment_evaluation.hpp"
+#include "cambio/config/gaze_task_config.hpp"
 #include "cambio/config/map_reader.hpp"
 #include "cambio/config/rig_config.hpp"
-#include "cambio/hal/eye.hpp"
+#include "cambio/config/scene_config.hpp"
 
 namespace cambio::config {
 
@@ -17,20 +20,8 @@ enum class ExecutorKind : std::uint8_t {
 
 /// What the control loop does during the run.
 enum class ControlTask : std::uint8_t {
-  kHold,      ///< Hold the initial pose (the joint loop's limits and watchdog still act).
-  kVergence,  ///< The paper's experiment 1: verge one eye onto the dominant eye's fixation.
-};
-
-/// The vergence controller's settings (control/vergence_controller.hpp). The member initialisers
-/// are the defaults for keys an experiment file leaves out, and the only copy of them: apps/ maps
-/// these onto control::VergenceParams, which has none of its own.
-struct VergenceTaskConfig {
-  hal::Eye verging_eye = hal::Eye::kRight;
-  double gain = 0.5;            ///< Fraction of the angular error corrected per measurement.
-  double min_confidence = 0.3;  ///< Ignore measurements below this.
-  double max_step_rad = 0.05;   ///< Largest correction per measurement.
-  /// The run succeeds if |disparity| at the end is at most this (level-0 px); 0: not scored.
-  double goal_disparity_px = 1.0;
+  kHold,  ///< Hold the initial pose (the joint loop's limits and watchdog still act).
+  kGaze,  ///< The gaze loop: fixation, saccades, pursuit and vergence, run by `commands`.
 };
 
 /// What the run does when a drive fault or a lost drive is latched (`fault_recovery:`): by
@@ -53,22 +44,30 @@ struct ExperimentConfig {
   /// The perception (SSM) settings file; empty: the shipped default.
   std::string perception_path;
   ControlTask task = ControlTask::kHold;
-  VergenceTaskConfig vergence;
+  /// kGaze only: the gaze loop's settings and its commands (at least one, in time order).
+  GazeTaskConfig gaze;
+  std::vector<GazeCommandConfig> commands;
+  EvaluationConfig evaluation;
+  std::vector<GoalConfig> goals;  ///< In file order; empty: nothing scored by name.
   FaultRecoveryConfig fault_recovery;
   /// The loaded rig, overrides from the command line applied, and the experiment's
   /// `initial_pose` (joint name -> `<joint>_deg` or `<joint>_rad`) written into each joint's
   /// initial_position_rad.
   RigConfig rig;
+  /// The loaded scene (scene_path), `scene.` overrides applied; nullopt for no scene. Everyone
+  /// uses this one (the sim's world, object targets, evaluation), so they cannot disagree.
+  std::optional<SceneConfig> scene;
 };
 
 /// The longest run an experiment may ask for: a day. A run's cycles (duration x each loop's
 /// rate), its progress and whatever it records per cycle grow with it.
 inline constexpr double kMaxExperimentDuration_s = 86'400.0;
 
-/// Loads an experiment and the rig it names. `overrides` apply to the experiment file; keys
-/// under `rig.` (e.g. `rig.loops.control.rate_hz=100`) apply to the rig file instead. Throws
-/// ConfigError with every problem of both files; a rig, scene or perception file that cannot
-/// be read (see config_file_problem) is reported at the experiment's key that names it.
+/// Loads an experiment and the rig and scene it names. `overrides` apply to the experiment file;
+/// keys under `rig.` (e.g. `rig.loops.control.rate_hz=100`) apply to the rig file instead, and
+/// keys under `scene.` to the scene file (objects by index: `scene.objects.0.xyz_m=[1, 0, 1.4]`).
+/// Throws ConfigError with every problem of the three files; a rig, scene or perception file that
+/// cannot be read (see config_file_problem) is reported at the experiment's key that names it.
 ExperimentConfig load_experiment(const std::string& path,
                                  const std::vector<ConfigOverride>& overrides = {});
 /// The same from YAML text: `name` stands for the file in messages, and the rig, scene and

@@ -2,9 +2,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -16,6 +18,18 @@
 #include "cambio/sim/world_snapshot.hpp"
 
 namespace cambio::sim {
+
+/// The first scene surface a ray meets (GroundTruth::cast_ray).
+struct RayHit {
+  bool hit = false;
+  /// Along the ray from its origin (m); infinity when nothing was hit.
+  double distance_m = std::numeric_limits<double>::infinity();
+  /// Where it hit, in the world (NaN when nothing was hit).
+  Eigen::Vector3d p_W = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The scene object hit; for scene geometry that is no object (the floor) the geom's name;
+  /// empty when nothing was hit.
+  std::string object;
+};
 
 /// The world's true state, for tests and evaluation only: control and perception never see it
 /// (it is not part of the HAL). Reads the newest snapshot the physics loop published. Not
@@ -38,6 +52,22 @@ class GroundTruth {
   Eigen::Isometry3d X_WO(const std::string& object_name);
   /// Pose of a link (a joint's moving body, or "base") in the world.
   Eigen::Isometry3d X_WL(const std::string& link_name);
+
+  /// The first scene surface (objects, the floor) a ray from `p_W` along `direction_W` (any
+  /// non-zero length) meets. The robot's own bodies (arms, torso, head) and the eyes' sky planes
+  /// are not scene: an eye looking at an object "through" the robot's hand sees the object.
+  /// `ignore_object` names a scene object (or scene geometry, as RayHit::object names it) the
+  /// ray passes through (empty: none). Throws
+  /// std::invalid_argument for a zero or non-finite direction, std::out_of_range for an unknown
+  /// `ignore_object`.
+  RayHit cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& direction_W,
+                  std::string_view ignore_object = {});
+  /// What blocks the segment from `p_from_W` to `p_to_W` (occlusion): the first scene surface
+  /// the segment meets before `tolerance_m` short of `p_to_W`, passing through `ignore_object`
+  /// (usually the object `p_to_W` lies on, so a point on its surface does not occlude itself).
+  /// hit == false when the view is clear.
+  RayHit segment_blocker(const Eigen::Vector3d& p_from_W, const Eigen::Vector3d& p_to_W,
+                         std::string_view ignore_object = {}, double tolerance_m = 1e-3);
 
   /// Renders a view of the newest state: a rig camera at its intrinsics (width, height 0) or
   /// any MuJoCo camera (the overview) at the given size. Writes top-row-first RGB into `rgb`

@@ -1,0 +1,37 @@
+#pragma once
+
+// An experiment's plots as PNG, drawn with PLplot (pngcairo device) from its recorded Trace.
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "run_trace.hpp"
+
+namespace cambio::app {
+
+class OutputDirectory;
+
+struct PlotInputs {
+  std::string title;  ///< Shown on every plot (the experiment's name).
+  /// The joints plot_joints.png draws (names in the trace), e.g. the head's; empty: every joint
+  /// whose true position moved during the run (at most 6).
+  std::vector<std::string> joints;
+  /// The saccade to draw in plot_saccade.png (s since the start): from its command to the
+  /// dominant eye's stop (the command time plus RunMetrics' saccade_duration_s). NaN: none.
+  double saccade_start_s = std::numeric_limits<double>::quiet_NaN();
+  double saccade_end_s = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Draws and stages in `out`:
+///  - plot_gaze.png: measured disparity (px) and the eyes' true gaze errors (deg) over time;
+///  - plot_joints.png: the joints' command, believed and true angles (deg) over time;
+///  - plot_saccade.png (with a saccade window and the dominant pan joint): the dominant eye's
+///    true pan (deg) and its speed (deg/s) around the saccade.
+/// Returns the names staged. A plot that cannot be drawn or written throws OutputError naming
+/// it (PLplot's message included); nothing is left behind. PLplot keeps global state: call from
+/// one thread at a time, after the run. Not real-time safe.
+std::vector<std::string> stage_plots(OutputDirectory& out, const Trace& trace,
+                                     const PlotInputs& inputs);
+
+}  // namespace cambio::app

@@ -1,0 +1,176 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cambio/control/believed_joints.hpp"
+#include "cambio/control/fixation_servo.hpp"
+#include "cambio/control/gaze_command.hpp"
+#include "cambio/control/head_joints.hpp"
+#include "cambio/control/joint_frames.hpp"
+#include "cambio/control/kinematics.hpp"
+#include "cambio/control/pursuit_tracker.hpp"
+#include "cambio/control/saccade_profile.hpp"
+#include "cambio/control/vergence_controller.hpp"
+#include "cambio/hal/hardware_info.hpp"
+#include "cambio/hal/loop.hpp"
+#include "cambio/hal/seqlock_channel.hpp"
+#include "cambio/perception/sensory_servo.hpp"
+#include "cambio/perception/ssm_server.hpp"
+
+namespace cambio::control {
+
+/// Settings of the gaze loop. No tuning defaults here: the experiment file's loader holds them.
+struct GazeLoopParams {
+  /// Dominant eye, fixation gain, the neck rule, default depth (FixationServo).
+  FixationParams fixation;
+  /// The verging eye (the other one), its focal length, gain, confidence floor, largest step.
+  VergenceParams vergence;
+  bool vergence_enabled = true;
+  /// At a saccade to a 3-D point, set the vergence its geometry needs instead of keeping it.
+  bool predictive_vergence = false;
+  /// Pursuit: the servo's gain while pursuing (1/s), and how far ahead the target is
+  /// extrapolated, as a fraction of the law's time constant 1/gain (1: a target moving at constant
+  /// angular velocity is followed without lag; 0: no lead).
+  double pursuit_gain_per_s = 0.0;
+  double pursuit_lead = 0.0;
+  /// Time constant of the pursued target's angular velocity filter (s).
+  double pursuit_velocity_filter_s = 0.1;
+};
+
+/// The head's control loop (the paper's Control Module for gaze), at the control rate:
+///  - fixation: the dominant eye brings a target to its image centre with ViSP's vpServo over the
+///    neck and eye joints, the 30° neck rule as its redundancy (FixationServo); the servo runs on
+///    the commanded pose (the robot's intent, the kinematics' camera Jacobian at it), so the
+///    servo's own dynamics do not fight the drives' lag;
+///  - vergence: the other eye's pan is the dominant eye's plus a vergence angle that each new
+///    confident disparity measurement corrects (VergenceController). The angle is kept within
+///    [0, what the verging eye's joint limits allow], so the eyes never diverge — at start, on low
+///    confidence, whatever is measured — and nothing winds up at a limit; the neck rule sees the
+///    verging eye too;
+///  - saccades: a jump to the servo's end pose for a new target along a synchronised
+///    velocity- and acceleration-limited profile (SaccadeProfile); the verging eye moves
+///    conjugately (same vergence) and re-verges once the dominant eye stops;
+///  - smooth pursuit: the target's direction from the SSM's motion estimate (PursuitTracker),
+///    extrapolated ahead by the servo's lag;
+///  - it asks the SSM for what it needs (the SSM's request channel): disparity always (vergence,
+///    reports), motion only while pursuing.
+/// Joints outside the head hold their initial pose. The loop publishes targets for every rig
+/// joint and a GazeStatus each cycle.
+///
+/// Real-time: everything is allocated at construction except what ViSP allocates inside the
+/// servo's control law, so the loop declares allocates_in_update().
+class GazeLoop final : public hal::Loop {
+ public:
+  /// `rig_joint_order`: the rig's joints in rig order (JointTargetFrame order); `pose` every
+  /// joint's initial target in that order. Throws std::invalid_argument on a rig without a
+  /// stereo head or inconsistent settings.
+  GazeLoop(const hal::HardwareInfo& hardware, const GazeLoopParams& params,
+           const JointTargetFrame& pose, BelievedJoints believed,
+           const hal::SeqlockChannel<perception::SsmSummary>& summaries,
+           hal::SeqlockChannel<perception::SsmRequest>& ssm_requests,
+           const hal::SeqlockChannel<GazeCommand>& commands,
+           hal::SeqlockChannel<JointTargetFrame>& targets);
+  ~GazeLoop() override;
+
+  const std::string& name() const override { return name_; }
+  bool allocates_in_update() const override { return true; }
+  void activate() override;
+  hal::Status update(const hal::LoopTick& tick) noexcept override;
+
+  const hal::SeqlockChannel<GazeStatus>& status() const { return status_channel_; }
+  /// Commands that could not be carried out (a target behind the eye, an unsolvable saccade).
+  std::uint64_t rejected_commands() const { return rejected_commands_; }
+  std::uint64_t corrections() const { return corrections_; }
+  std::uint64_t measurements() const { return measurements_; }
+  /// Large disparity jumps held back, once verged, until a second measurement confirmed them.
+  std::uint64_t held_jumps() const { return held_jumps_; }
+
+  /// Once the vergence error has been below kVergedRad, an error above kVergenceJumpRad needs a
+  /// second measurement to confirm it (see verge()).
+  static constexpr double kVergedRad = 0.25 * std::numbers::pi / 180.0;
+  static constexpr double kVergenceJumpRad = 1.0 * std::numbers::pi / 180.0;
+
+ private:
+  enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
+  struct CameraPoseSample {
+    std::int64_t stamp_ns = 0;
+    Eigen::Matrix3d R_WC = Eigen::Matrix3d::Identity();
+  };
+
+  void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
+  bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
+  void start_saccade(std::int64_t now_ns) noexcept;
+  void servo_step(double gain_scale, double dt_s) noexcept;
+  void verge(const perception::SsmSummary& summary) noexcept;
+  void clamp_vergence() noexcept;
+  void place_verging_eye() noexcept;
+  double depth_estimate_m() const noexcept;
+  const Eigen::Matrix3d& R_WC_at(std::int64_t stamp_ns) const noexcept;
+  void update_belief(std::int64_t now_ns) noexcept;
+  void publish(std::int64_t now_ns) noexcept;
+  void request_features() noexcept;
+
+  std::string name_ = "control";
+  GazeLoopParams params_;
+  hal::Eye dominant_;
+  hal::Eye verging_;
+  std::unique_ptr<FixationServo> servo_;
+  HeadJoints head_;
+  Kinematics believed_kinematics_;
+  VergenceController vergence_controller_;
+  PursuitTracker pursuit_;
+  SaccadeProfile saccade_;
+  std::vector<hal::JointLimits> limits_tree_;
+  std::vector<int> rig_to_tree_;
+
+  BelievedJoints believed_;
+  const hal::SeqlockChannel<perception::SsmSummary>& summaries_;
+  hal::SeqlockChannel<perception::SsmRequest>& ssm_requests_;
+  const hal::SeqlockChannel<GazeCommand>& commands_;
+  hal::SeqlockChannel<JointTargetFrame>& targets_;
+  hal::SeqlockChannel<GazeStatus> status_channel_;
+
+  JointTargetFrame pose_;                // Rig order: what is commanded.
+  std::vector<double> q_command_tree_;   // The commanded pose, tree order.
+  std::vector<double> q_believed_rig_;   // Encoders, rig order.
+  std::vector<double> q_believed_tree_;  // Encoders, tree order.
+  std::vector<double> qdot_tree_;        // Servo output, tree order.
+  std::vector<double> q_scratch_tree_;   // Saccade end pose.
+  std::array<int, 5> saccade_joints_{};  // Neck pan, neck tilt, eye tilt, dominant, verging.
+  std::array<double, 5> saccade_q0_{}, saccade_q1_{}, saccade_vmax_{}, saccade_amax_{};
+  std::array<double, 5> saccade_q_{}, saccade_qdot_{};
+  std::int64_t saccade_start_ns_ = 0;
+  double saccade_end_vergence_rad_ = 0.0;
+
+  std::array<CameraPoseSample, 64> camera_poses_{};  // Believed dominant orientation history.
+  std::size_t camera_pose_next_ = 0;
+
+  Mode mode_ = Mode::kHold;
+  bool verge_ = false;
+  bool target_set_ = false;
+  Eigen::Vector4d target_W_ = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  double pursuit_depth_m_ = 1.0;
+  double vergence_rad_ = 0.0;
+
+  GazeCommand command_{};
+  std::uint64_t last_command_sequence_ = 0;
+  perception::SsmSummary summary_{};
+  std::uint64_t last_summary_sequence_ = 0;
+  perception::SsmRequest request_{};
+  GazeStatus status_{};
+  FixationError fixation_error_{};
+  std::uint64_t rejected_commands_ = 0;
+  std::uint64_t corrections_ = 0;
+  std::uint64_t measurements_ = 0;
+  std::uint64_t held_jumps_ = 0;
+  bool verged_ = false;            // The vergence error has been small since the last command.
+  double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
+};
+
+}  // namespace cambio::control

@@ -1,0 +1,439 @@
+#include "cambio/control/gaze_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace cambio::control {
+namespace {
+
+const hal::CameraInfo& stereo_camera(const hal::HardwareInfo& hardware, hal::Eye eye) {
+  if (!hardware.stereo) throw std::invalid_argument("gaze loop: the rig has no stereo pair");
+  const std::string& name =
+      eye == hal::Eye::kLeft ? hardware.stereo->left_camera : hardware.stereo->right_camera;
+  const hal::CameraInfo* camera = hardware.find_camera(name);
+  if (camera == nullptr) {
+    throw std::invalid_argument("gaze loop: the stereo pair names an unknown camera '" + name +
+                                "'");
+  }
+  return *camera;
+}
+
+std::size_t at(int index) {
+  return static_cast<std::size_t>(index);
+}
+
+}  // namespace
+
+GazeLoop::GazeLoop(const hal::HardwareInfo& hardware, const GazeLoopParams& params,
+                   const JointTargetFrame& pose, BelievedJoints believed,
+                   const hal::SeqlockChannel<perception::SsmSummary>& summaries,
+                   hal::SeqlockChannel<perception::SsmRequest>& ssm_requests,
+                   const hal::SeqlockChannel<GazeCommand>& commands,
+                   hal::SeqlockChannel<JointTargetFrame>& targets)
+    : params_(params),
+      dominant_(params.fixation.dominant_eye),
+      verging_(hal::other(params.fixation.dominant_eye)),
+      servo_(std::make_unique<FixationServo>(hardware, params.fixation)),
+      head_(servo_->head()),
+      believed_kinematics_(hardware),
+      vergence_controller_(params.vergence),
+      pursuit_(stereo_camera(hardware, params.fixation.dominant_eye).intrinsics,
+               params.pursuit_velocity_filter_s),
+      saccade_(5),
+      believed_(std::move(believed)),
+      summaries_(summaries),
+      ssm_requests_(ssm_requests),
+      commands_(commands),
+      targets_(targets),
+      pose_(pose) {
+  if (params.vergence.verging_eye != verging_) {
+    throw std::invalid_argument("gaze loop: the verging eye must be the one that is not dominant");
+  }
+  if (!(params.pursuit_gain_per_s > 0.0) || !(params.pursuit_lead >= 0.0)) {
+    throw std::invalid_argument("gaze loop: pursuit gain must be > 0 and its lead >= 0");
+  }
+  const int rig_count = believed_kinematics_.rig_joint_count();
+  if (pose.count != rig_count || believed_.rig_joint_count() != rig_count) {
+    throw std::invalid_argument("gaze loop: the pose and the believed joints must hold the rig's " +
+                                std::to_string(rig_count) + " joints");
+  }
+  for (const auto& joint : hardware.joints) limits_tree_.push_back(joint.limits);
+  rig_to_tree_.assign(believed_kinematics_.rig_to_tree().begin(),
+                      believed_kinematics_.rig_to_tree().end());
+  const auto tree_count = static_cast<std::size_t>(believed_kinematics_.joint_count());
+  q_command_tree_.assign(tree_count, 0.0);
+  q_believed_tree_.assign(tree_count, 0.0);
+  qdot_tree_.assign(tree_count, 0.0);
+  q_believed_rig_.assign(static_cast<std::size_t>(rig_count), 0.0);
+  for (int i = 0; i < rig_count; ++i) {
+    const double q = pose.commands[at(i)].value;
+    q_command_tree_[at(rig_to_tree_[at(i)])] = q;
+    q_believed_rig_[at(i)] = q;
+  }
+  q_believed_tree_ = q_command_tree_;
+  q_scratch_tree_ = q_command_tree_;
+  saccade_joints_ = {head_.neck_pan, head_.neck_tilt, head_.eye_tilt,
+                     head_.eye_pan[static_cast<std::size_t>(dominant_)],
+                     head_.eye_pan[static_cast<std::size_t>(verging_)]};
+  for (std::size_t k = 0; k < saccade_joints_.size(); ++k) {
+    const hal::JointLimits& limits = limits_tree_[at(saccade_joints_[k])];
+    saccade_vmax_[k] = limits.max_velocity_rad_s;
+    saccade_amax_[k] = limits.max_acceleration_rad_s2;
+  }
+  // Whatever the initial pose, the eyes start no further apart than parallel.
+  const double left = q_command_tree_[at(head_.eye_pan[0])];
+  const double right = q_command_tree_[at(head_.eye_pan[1])];
+  vergence_rad_ = right - left;
+  clamp_vergence();
+  place_verging_eye();
+  (void)believed_kinematics_.update(q_believed_tree_);
+}
+
+GazeLoop::~GazeLoop() = default;
+
+void GazeLoop::activate() {
+  request_features();
+  for (auto& sample : camera_poses_) sample = CameraPoseSample{};
+  camera_pose_next_ = 0;
+}
+
+hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
+  const std::int64_t now_ns = tick.now_ns;
+  const double dt_s = tick.period_s;
+  GazeCommand command;
+  if (commands_.read(command) && command.sequence != 0 &&
+      command.sequence != last_command_sequence_) {
+    last_command_sequence_ = command.sequence;
+    apply(command, now_ns);
+  }
+  update_belief(now_ns);
+
+  (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
+  const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
+  if (new_summary) {
+    last_summary_sequence_ = summary_.sequence;
+    ++measurements_;
+  }
+
+  switch (mode_) {
+    case Mode::kHold:
+      break;
+    case Mode::kFixate:
+      servo_step(1.0, dt_s);
+      break;
+    case Mode::kPursue: {
+      if (new_summary) {
+        pursuit_.update(summary_.motion[static_cast<std::size_t>(dominant_)],
+                        R_WC_at(summary_.stamp_ns), summary_.stamp_ns);
+      }
+      // Extrapolated by the law's lag, so a steadily moving target is followed without it.
+      const double lead_s = params_.pursuit_lead / params_.pursuit_gain_per_s;
+      const auto lead_ns = static_cast<std::int64_t>(lead_s * 1e9);
+      const Eigen::Vector3d c_W =
+          believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)])
+              .translation();
+      target_W_ << c_W + pursuit_depth_m_ * pursuit_.direction_W(now_ns + lead_ns), 1.0;
+      servo_step(params_.pursuit_gain_per_s / params_.fixation.gain_per_s, dt_s);
+      break;
+    }
+    case Mode::kSaccade: {
+      const double t_s = static_cast<double>(now_ns - saccade_start_ns_) * 1e-9;
+      saccade_.sample(std::min(t_s, saccade_.duration_s()), saccade_q_, saccade_qdot_);
+      for (std::size_t k = 0; k < saccade_joints_.size(); ++k) {
+        q_command_tree_[at(saccade_joints_[k])] = saccade_q_[k];
+      }
+      if (t_s >= saccade_.duration_s()) {
+        // The dominant eye has stopped on the target: fixate it and let the other eye re-verge.
+        mode_ = Mode::kFixate;
+        vergence_rad_ = saccade_end_vergence_rad_;
+        verged_ = false;
+      }
+      break;
+    }
+  }
+  if (mode_ != Mode::kSaccade) {
+    if (new_summary && verge_ && params_.vergence_enabled) verge(summary_);
+    clamp_vergence();
+    place_verging_eye();
+  }
+
+  for (int i = 0; i < pose_.count; ++i) {
+    pose_.commands[at(i)].value = q_command_tree_[at(rig_to_tree_[at(i)])];
+  }
+  pose_.stamp_ns = now_ns;
+  targets_.write(pose_);
+  publish(now_ns);
+  return hal::Status::kOk;
+}
+
+void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
+  command_ = command;
+  verge_ = command.verge;
+  verged_ = false;  // A new gaze target: its first measurements are believed as they come.
+  pending_jump_rad_ = 0.0;
+  ++status_.commands_applied;
+  status_.action = command.action;
+  switch (command.action) {
+    case GazeAction::kHold:
+      mode_ = Mode::kHold;
+      break;
+    case GazeAction::kFixate:
+    case GazeAction::kSaccade: {
+      Eigen::Vector4d target;
+      if (!resolve(command.target, target)) {
+        ++rejected_commands_;
+        mode_ = Mode::kHold;
+        break;
+      }
+      target_W_ = target;
+      target_set_ = true;
+      if (command.action == GazeAction::kSaccade) {
+        start_saccade(now_ns);
+      } else {
+        mode_ = Mode::kFixate;
+      }
+      break;
+    }
+    case GazeAction::kPursue: {
+      const Eigen::Isometry3d& X_WC =
+          believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)]);
+      pursuit_depth_m_ = depth_estimate_m();
+      pursuit_.start(X_WC.linear().col(2), X_WC.linear(), now_ns);
+      target_W_ << X_WC.translation() + pursuit_depth_m_ * X_WC.linear().col(2), 1.0;
+      target_set_ = true;
+      mode_ = Mode::kPursue;
+      break;
+    }
+  }
+  if (mode_ != Mode::kPursue) pursuit_.stop();
+  request_features();
+}
+
+bool GazeLoop::resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept {
+  const Eigen::Isometry3d& X_WC =
+      believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)]);
+  const double depth_m = depth_estimate_m();
+  Eigen::Vector3d ray_W;
+  switch (target.kind) {
+    case GazeTargetKind::kPoint:
+      target_W << target.point_W_m[0], target.point_W_m[1], target.point_W_m[2], 1.0;
+      return target_W.allFinite();
+    case GazeTargetKind::kPixel:
+      ray_W = servo_->pixel_ray_W(q_believed_tree_, target.pixel_px[0], target.pixel_px[1]);
+      break;
+    case GazeTargetKind::kAngles: {
+      // Camera frame: x right, y down; pan to the left is -x, tilt down is +y.
+      const Eigen::Vector3d ray_C(-std::tan(target.angles_rad[0]), std::tan(target.angles_rad[1]),
+                                  1.0);
+      ray_W = X_WC.linear() * ray_C.normalized();
+      break;
+    }
+    case GazeTargetKind::kNone:
+      return false;
+  }
+  target_W << X_WC.translation() + depth_m * ray_W, 1.0;
+  return target_W.allFinite();
+}
+
+void GazeLoop::start_saccade(std::int64_t now_ns) noexcept {
+  q_scratch_tree_ = q_command_tree_;  // Same size: no allocation.
+  if (servo_->solve(q_command_tree_, target_W_, vergence_rad_, q_scratch_tree_) !=
+      hal::Status::kOk) {
+    ++rejected_commands_;
+    mode_ = Mode::kFixate;  // Servo there instead, at the servo's pace.
+    return;
+  }
+  saccade_end_vergence_rad_ = vergence_rad_;
+  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
+  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
+  if (params_.predictive_vergence && target_W_.w() == 1.0) {
+    // The vergence the target's depth needs at the end pose: turn the verging eye's axis onto it.
+    (void)believed_kinematics_.update(q_scratch_tree_);  // Restored by the next update_belief().
+    const Eigen::Isometry3d& X_WV =
+        believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(verging_)]);
+    const Eigen::Vector3d p_V = X_WV.inverse() * target_W_.head<3>();
+    if (p_V.z() > 0.0) {
+      const double turn_left_rad = std::atan2(-p_V.x(), p_V.z());
+      const double verging_end = q_scratch_tree_[verging_pan] + turn_left_rad;
+      saccade_end_vergence_rad_ = verging_ == hal::Eye::kRight
+                                      ? verging_end - q_scratch_tree_[dominant_pan]
+                                      : q_scratch_tree_[dominant_pan] - verging_end;
+    }
+  }
+  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
+  const hal::JointLimits& verging_limits = limits_tree_[verging_pan];
+  q_scratch_tree_[verging_pan] =
+      std::clamp(q_scratch_tree_[dominant_pan] + sign * std::max(saccade_end_vergence_rad_, 0.0),
+                 verging_limits.min_position_rad, verging_limits.max_position_rad);
+  for (std::size_t k = 0; k < saccade_joints_.size(); ++k) {
+    saccade_q0_[k] = q_command_tree_[at(saccade_joints_[k])];
+    saccade_q1_[k] = q_scratch_tree_[at(saccade_joints_[k])];
+  }
+  (void)saccade_.plan(saccade_q0_, saccade_q1_, saccade_vmax_, saccade_amax_);
+  saccade_start_ns_ = now_ns;
+  mode_ = Mode::kSaccade;
+}
+
+void GazeLoop::servo_step(double gain_scale, double dt_s) noexcept {
+  if (servo_->velocity(q_command_tree_, target_W_, vergence_rad_, qdot_tree_, &fixation_error_) !=
+      hal::Status::kOk) {
+    return;  // Nothing to servo on (the target behind the eye): hold.
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::size_t joint = at(saccade_joints_[k]);
+    const hal::JointLimits& limits = limits_tree_[joint];
+    const double qdot = std::clamp(gain_scale * qdot_tree_[joint], -limits.max_velocity_rad_s,
+                                   limits.max_velocity_rad_s);
+    // Integrated on the clamped value: nothing winds up at a limit.
+    q_command_tree_[joint] = std::clamp(q_command_tree_[joint] + qdot * dt_s,
+                                        limits.min_position_rad, limits.max_position_rad);
+  }
+}
+
+void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
+  const auto& disparity = summary.disparity;
+  const double d_px = static_cast<double>(disparity.disparity_px);
+  if (!disparity.valid || !std::isfinite(d_px) ||
+      static_cast<double>(disparity.confidence) < params_.vergence.min_confidence) {
+    return;
+  }
+  // The angle the verging eye must still turn (sign as applied to its pan).
+  const double error_rad = vergence_controller_.angular_error_rad(d_px);
+  // Once verged, a sudden large error is believed only when the next measurement confirms it
+  // (same direction, within a factor of two): an object crossing the line of sight, seen by the
+  // SSM a frame or two late, must not drag the eyes off a target they still see.
+  if (verged_) {
+    if (std::abs(error_rad) > kVergenceJumpRad) {
+      const bool confirms = std::abs(pending_jump_rad_) > kVergenceJumpRad &&
+                            error_rad * pending_jump_rad_ > 0.0 &&
+                            std::abs(error_rad) <= 2.0 * std::abs(pending_jump_rad_) &&
+                            std::abs(pending_jump_rad_) <= 2.0 * std::abs(error_rad);
+      if (!confirms) {
+        pending_jump_rad_ = error_rad;
+        ++held_jumps_;
+        return;
+      }
+      verged_ = false;  // A real change of depth: verge again as from the start.
+    }
+  }
+  pending_jump_rad_ = 0.0;
+  if (std::abs(error_rad) < kVergedRad) verged_ = true;
+  const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
+                                 params_.vergence.max_step_rad);
+  vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
+  ++corrections_;
+}
+
+void GazeLoop::clamp_vergence() noexcept {
+  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
+  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
+  const double dominant = q_command_tree_[dominant_pan];
+  const hal::JointLimits& limits = limits_tree_[verging_pan];
+  // verging = dominant + v (right eye verging) or dominant - v (left eye verging), v >= 0.
+  const double low = verging_ == hal::Eye::kRight ? limits.min_position_rad - dominant
+                                                  : dominant - limits.max_position_rad;
+  const double high = verging_ == hal::Eye::kRight ? limits.max_position_rad - dominant
+                                                   : dominant - limits.min_position_rad;
+  const double floor = std::max(0.0, low);
+  vergence_rad_ =
+      std::clamp(std::isfinite(vergence_rad_) ? vergence_rad_ : 0.0, floor, std::max(floor, high));
+}
+
+void GazeLoop::place_verging_eye() noexcept {
+  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
+  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
+  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
+  const hal::JointLimits& limits = limits_tree_[verging_pan];
+  q_command_tree_[verging_pan] = std::clamp(q_command_tree_[dominant_pan] + sign * vergence_rad_,
+                                            limits.min_position_rad, limits.max_position_rad);
+}
+
+double GazeLoop::depth_estimate_m() const noexcept {
+  if (status_.believed_fixation_valid) {
+    const Eigen::Vector3d c_W =
+        believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)])
+            .translation();
+    const Eigen::Vector3d p_W(status_.believed_fixation_W_m[0], status_.believed_fixation_W_m[1],
+                              status_.believed_fixation_W_m[2]);
+    const double depth = (p_W - c_W).norm();
+    if (depth > 0.05 && depth < 20.0) return depth;
+  }
+  return params_.fixation.default_depth_m;
+}
+
+const Eigen::Matrix3d& GazeLoop::R_WC_at(std::int64_t stamp_ns) const noexcept {
+  // The newest sample not after the stamp; the oldest one if all are after it.
+  const CameraPoseSample* best = nullptr;
+  const CameraPoseSample* oldest = &camera_poses_[0];
+  for (const auto& sample : camera_poses_) {
+    if (sample.stamp_ns == 0) continue;
+    if (oldest->stamp_ns == 0 || sample.stamp_ns < oldest->stamp_ns) oldest = &sample;
+    if (sample.stamp_ns <= stamp_ns && (best == nullptr || sample.stamp_ns > best->stamp_ns)) {
+      best = &sample;
+    }
+  }
+  return best != nullptr ? best->R_WC : oldest->R_WC;
+}
+
+void GazeLoop::update_belief(std::int64_t now_ns) noexcept {
+  (void)believed_.read(q_believed_rig_);
+  for (std::size_t i = 0; i < q_believed_rig_.size(); ++i) {
+    q_believed_tree_[at(rig_to_tree_[i])] = q_believed_rig_[i];
+  }
+  (void)believed_kinematics_.update(q_believed_tree_);
+  CameraPoseSample& sample = camera_poses_[camera_pose_next_];
+  sample.stamp_ns = now_ns;
+  sample.R_WC =
+      believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)]).linear();
+  camera_pose_next_ = (camera_pose_next_ + 1) % camera_poses_.size();
+}
+
+void GazeLoop::publish(std::int64_t now_ns) noexcept {
+  status_.stamp_ns = now_ns;
+  status_.saccade_active = mode_ == Mode::kSaccade;
+  status_.target_set = target_set_;
+  if (target_set_) {
+    for (int i = 0; i < 3; ++i) status_.target_W_m[at(i)] = target_W_[i];
+  }
+  // Where the robot believes it looks: the point nearest both believed optical axes.
+  const Eigen::Isometry3d& X_WL = believed_kinematics_.X_WF(head_.camera_frame[0]);
+  const Eigen::Isometry3d& X_WR = believed_kinematics_.X_WF(head_.camera_frame[1]);
+  const Eigen::Vector3d p1 = X_WL.translation();
+  const Eigen::Vector3d d1 = X_WL.linear().col(2);
+  const Eigen::Vector3d p2 = X_WR.translation();
+  const Eigen::Vector3d d2 = X_WR.linear().col(2);
+  const Eigen::Vector3d w0 = p1 - p2;
+  const double b = d1.dot(d2);
+  const double d = d1.dot(w0);
+  const double e = d2.dot(w0);
+  const double denominator = 1.0 - b * b;
+  status_.believed_fixation_valid = false;
+  if (denominator > 1e-12) {
+    const double s = (b * e - d) / denominator;
+    const double t = (e - b * d) / denominator;
+    if (s > 0.0 && t > 0.0) {
+      const Eigen::Vector3d point = 0.5 * (p1 + s * d1 + p2 + t * d2);
+      for (int i = 0; i < 3; ++i) status_.believed_fixation_W_m[at(i)] = point[i];
+      status_.believed_fixation_valid = true;
+    }
+  }
+  status_.vergence_rad =
+      q_command_tree_[at(head_.eye_pan[1])] - q_command_tree_[at(head_.eye_pan[0])];
+  status_.disparity_valid = summary_.disparity.valid;
+  status_.disparity_px = summary_.disparity.disparity_px;
+  status_.disparity_confidence = summary_.disparity.confidence;
+  status_.feature_error_px = fixation_error_.error_px;
+  status_channel_.write(status_);
+}
+
+void GazeLoop::request_features() noexcept {
+  request_.fixation_set = false;  // Both retinas on their image centres: the eyes' axes.
+  request_.features.maps = perception::kAllMaps;
+  request_.features.disparity = true;
+  request_.features.motion = mode_ == Mode::kPursue;
+  request_.features.moments = false;
+  ssm_requests_.write(request_);
+}
+
+}  // namespace cambio::control

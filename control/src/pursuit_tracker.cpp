@@ -1,0 +1,73 @@
+#include "cambio/control/pursuit_tracker.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace cambio::control {
+
+PursuitTracker::PursuitTracker(const hal::CameraIntrinsics& intrinsics, double velocity_filter_s)
+    : fx_px_(intrinsics.focal_x_px),
+      fy_px_(intrinsics.focal_y_px),
+      velocity_filter_s_(velocity_filter_s) {
+  if (!(fx_px_ > 0.0 && fy_px_ > 0.0)) {
+    throw std::invalid_argument("pursuit: the dominant camera's focal lengths must be > 0");
+  }
+  if (!(velocity_filter_s > 0.0)) {
+    throw std::invalid_argument("pursuit: velocity_filter_s must be > 0");
+  }
+}
+
+void PursuitTracker::start(const Eigen::Vector3d& direction_W, const Eigen::Matrix3d& R_WC,
+                           std::int64_t stamp_ns) noexcept {
+  const double norm = direction_W.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return;
+  direction_W_ = direction_W / norm;
+  R_WC_ = R_WC;
+  stamp_ns_ = stamp_ns;
+  angular_velocity_W_.setZero();
+  active_ = true;
+}
+
+Eigen::Vector3d PursuitTracker::turned(const Eigen::Vector3d& direction,
+                                       const Eigen::Vector3d& angular_velocity,
+                                       double dt_s) noexcept {
+  const Eigen::Vector3d rotation = angular_velocity * dt_s;
+  const double angle = rotation.norm();
+  if (angle < 1e-12) return direction;
+  return Eigen::AngleAxisd(angle, rotation / angle) * direction;
+}
+
+void PursuitTracker::update(const perception::MotionResult& motion, const Eigen::Matrix3d& R_WC,
+                            std::int64_t stamp_ns) noexcept {
+  if (!active_ || stamp_ns <= stamp_ns_) return;
+  const double dt_s = static_cast<double>(stamp_ns - stamp_ns_) * 1e-9;
+  Eigen::Vector3d direction = turned(direction_W_, angular_velocity_W_, dt_s);
+  // The target's normalised image position in the previous frame, moved by the measured flow.
+  const Eigen::Vector3d before_C = R_WC_.transpose() * direction_W_;
+  if (motion.valid && !motion.fixation_changed && before_C.z() > 1e-6 &&
+      std::isfinite(motion.flow_x_px) && std::isfinite(motion.flow_y_px)) {
+    const double x = before_C.x() / before_C.z() + static_cast<double>(motion.flow_x_px) / fx_px_;
+    const double y = before_C.y() / before_C.z() + static_cast<double>(motion.flow_y_px) / fy_px_;
+    direction = (R_WC * Eigen::Vector3d(x, y, 1.0)).normalized();
+    // The angular velocity that turned the old direction into the new one, low-pass filtered.
+    const Eigen::Vector3d axis = direction_W_.cross(direction);
+    const double sine = axis.norm();
+    const double angle = std::atan2(sine, direction_W_.dot(direction));
+    const Eigen::Vector3d measured =
+        sine > 1e-12 ? Eigen::Vector3d(axis / sine * angle / dt_s) : Eigen::Vector3d::Zero();
+    const double alpha = dt_s / (velocity_filter_s_ + dt_s);
+    angular_velocity_W_ += alpha * (measured - angular_velocity_W_);
+    ++measured_frames_;
+  } else {
+    ++extrapolated_frames_;
+  }
+  direction_W_ = direction;
+  R_WC_ = R_WC;
+  stamp_ns_ = stamp_ns;
+}
+
+Eigen::Vector3d PursuitTracker::direction_W(std::int64_t t_ns) const noexcept {
+  return turned(direction_W_, angular_velocity_W_, static_cast<double>(t_ns - stamp_ns_) * 1e-9);
+}
+
+}  // namespace cambio::control

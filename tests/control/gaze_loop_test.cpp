@@ -1,0 +1,418 @@
+// The gaze loop closed around an ideal head: the joints reach what is commanded each cycle (the
+// sim's servo model and rendering are the experiments' business), the "SSM" reports disparity and
+// motion computed from the geometry in closed form. What is checked is the loop's behaviour
+// against that geometry: fixation puts the dominant eye's axis through the target, the 30° rule,
+// vergence that never diverges or winds up, saccades within the joints' limits, pursuit.
+#include "cambio/control/gaze_loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cambio/config/hardware_description.hpp"
+#include "cambio/config/rig_loader.hpp"
+#include "cambio/config/shipped_config.hpp"
+
+namespace cambio::control {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kPeriodS = 0.005;  // 200 Hz, the shipped control rate.
+constexpr int kCyclesPerFrame = 7;  // About 30 Hz camera frames.
+
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+class GazeHarness {
+ public:
+  explicit GazeHarness(const std::map<std::string, double>& initial_deg = {},
+                       hal::Eye dominant = hal::Eye::kLeft)
+      : hardware_(config::hardware_description(
+            config::load_rig(config::find_shipped_config("rigs/cambio.yaml")))),
+        truth_(hardware_) {
+    for (const auto& group : hardware_.groups) {
+      for (const auto& joint : group.joints) rig_order_.push_back(joint);
+    }
+    JointTargetFrame pose;
+    for (const auto& name : rig_order_) {
+      const auto it = initial_deg.find(name);
+      const double q = it != initial_deg.end() ? it->second * kDeg
+                                               : hardware_.find_joint(name)->initial_position_rad;
+      pose.commands[static_cast<std::size_t>(pose.count++)] = {hal::CommandMode::kPosition, q};
+      q_rig_.push_back(q);
+    }
+    publish_states();
+    params_.fixation.dominant_eye = dominant;
+    params_.fixation.gain_per_s = 4.0;
+    params_.fixation.neck_rule_rad = 30.0 * kDeg;
+    params_.fixation.default_depth_m = 1.0;
+    params_.vergence.verging_eye = hal::other(dominant);
+    params_.vergence.focal_px = camera(hal::other(dominant)).intrinsics.focal_x_px;
+    params_.vergence.gain = 0.5;
+    params_.vergence.min_confidence = 0.3;
+    params_.vergence.max_step_rad = 3.0 * kDeg;
+    params_.pursuit_gain_per_s = 20.0;
+    params_.pursuit_lead = 1.0;
+    pose_ = pose;
+  }
+
+  GazeLoopParams& params() { return params_; }
+
+  void build() {
+    std::vector<int> all(rig_order_.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    BelievedJoints believed({{&states_, all}}, static_cast<int>(rig_order_.size()));
+    loop_ = std::make_unique<GazeLoop>(hardware_, params_, pose_, std::move(believed), summaries_,
+                                       requests_, commands_, targets_);
+    loop_->configure();
+    loop_->activate();
+  }
+
+  void command(GazeAction action, const GazeTarget& target = {}, bool verge = true) {
+    GazeCommand c;
+    c.sequence = ++sequence_;
+    c.action = action;
+    c.target = target;
+    c.verge = verge;
+    commands_.write(c);
+  }
+
+  static GazeTarget point(const Eigen::Vector3d& p) {
+    GazeTarget t;
+    t.kind = GazeTargetKind::kPoint;
+    t.point_W_m = {p.x(), p.y(), p.z()};
+    return t;
+  }
+
+  /// One control cycle; every kCyclesPerFrame cycles a synthetic SSM frame about `object_W`
+  /// (the point the verging eye should see at the dominant fovea) is published first.
+  /// `forced_disparity_px`, when given, replaces the geometric disparity (a wrong measurement).
+  void step(const Eigen::Vector3d* object_W = nullptr,
+            std::optional<double> forced_disparity_px = std::nullopt) {
+    if (object_W != nullptr && cycle_ % kCyclesPerFrame == 0) {
+      publish_frame(*object_W, forced_disparity_px);
+    }
+    hal::LoopTick tick;
+    tick.cycle = cycle_++;
+    tick.now_ns = now_ns_;
+    tick.deadline_ns = now_ns_;
+    tick.period_s = kPeriodS;
+    ASSERT_EQ(loop_->update(tick), hal::Status::kOk);
+    JointTargetFrame targets;
+    ASSERT_TRUE(targets_.read(targets));
+    previous_q_rig_ = q_rig_;
+    for (int i = 0; i < targets.count; ++i)
+      q_rig_[static_cast<std::size_t>(i)] = targets.commands[static_cast<std::size_t>(i)].value;
+    publish_states();
+    now_ns_ += static_cast<std::int64_t>(kPeriodS * 1e9);
+  }
+
+  double q_deg(const std::string& joint) const { return q_rig_[index(joint)] / kDeg; }
+  double velocity_rad_s(const std::string& joint) const {
+    return (q_rig_[index(joint)] - previous_q_rig_[index(joint)]) / kPeriodS;
+  }
+  double limit_velocity(const std::string& joint) const {
+    return hardware_.find_joint(joint)->limits.max_velocity_rad_s;
+  }
+
+  /// Angle between an eye's optical axis and the ray to `p_W`, at the current joints.
+  double gaze_error_deg(hal::Eye eye, const Eigen::Vector3d& p_W) {
+    const Eigen::Isometry3d X_WC = camera_pose(eye);
+    return angle_between(X_WC.linear().col(2), p_W - X_WC.translation()) / kDeg;
+  }
+
+  /// An eye's optical frame in the world at the current joints.
+  Eigen::Isometry3d camera_pose_W(hal::Eye eye) { return camera_pose(eye); }
+
+  /// Where the dominant eye's axis passes nearest `p_W` (the point the other eye should see).
+  Eigen::Vector3d on_dominant_axis(const Eigen::Vector3d& p_W) {
+    const Eigen::Isometry3d X_WC = camera_pose(params_.fixation.dominant_eye);
+    const Eigen::Vector3d axis = X_WC.linear().col(2);
+    return X_WC.translation() + axis * axis.dot(p_W - X_WC.translation());
+  }
+
+  GazeStatus status() const {
+    GazeStatus s;
+    EXPECT_TRUE(loop_->status().read(s));
+    return s;
+  }
+  perception::SsmRequest request() const {
+    perception::SsmRequest r;
+    EXPECT_TRUE(requests_.read(r));
+    return r;
+  }
+  const GazeLoop& loop() const { return *loop_; }
+  const hal::HardwareInfo& hardware() const { return hardware_; }
+
+ private:
+  std::size_t index(const std::string& joint) const {
+    return static_cast<std::size_t>(std::find(rig_order_.begin(), rig_order_.end(), joint) -
+                                    rig_order_.begin());
+  }
+  const hal::CameraInfo& camera(hal::Eye eye) const {
+    return *hardware_.find_camera(eye == hal::Eye::kLeft ? hardware_.stereo->left_camera
+                                                         : hardware_.stereo->right_camera);
+  }
+  Eigen::Isometry3d camera_pose(hal::Eye eye) {
+    EXPECT_EQ(truth_.update_rig_order(q_rig_), hal::Status::kOk);
+    return truth_.X_WF(truth_.frame_index(camera(eye).name));
+  }
+  Eigen::Vector2d project_px(hal::Eye eye, const Eigen::Vector3d& p_W) {
+    const Eigen::Vector3d p_C = camera_pose(eye).inverse() * p_W;
+    const auto& k = camera(eye).intrinsics;
+    return {k.focal_x_px * p_C.x() / p_C.z(), k.focal_y_px * p_C.y() / p_C.z()};
+  }
+  void publish_states() {
+    JointStateFrame frame;
+    frame.count = static_cast<int>(q_rig_.size());
+    for (std::size_t i = 0; i < q_rig_.size(); ++i) {
+      frame.states[i].position_rad = q_rig_[i];
+      frame.states[i].stamp_ns = now_ns_;
+    }
+    frame.stamp_ns = now_ns_;
+    states_.write(frame);
+  }
+  void publish_frame(const Eigen::Vector3d& object_W, std::optional<double> forced_disparity_px) {
+    const hal::Eye dominant = params_.fixation.dominant_eye;
+    perception::SsmSummary summary;
+    summary.sequence = ++frames_;
+    summary.stamp_ns = now_ns_;
+    // Disparity at the retina centres: x_left - x_right of the point the dominant eye fixates.
+    const Eigen::Vector3d fixated = on_dominant_axis(object_W);
+    const Eigen::Vector2d seen = project_px(hal::other(dominant), fixated);
+    summary.disparity.valid = true;
+    summary.disparity.confidence = 0.9f;
+    summary.disparity.disparity_px = static_cast<float>(
+        forced_disparity_px.value_or(dominant == hal::Eye::kLeft ? -seen.x() : seen.x()));
+    // Motion at the dominant fovea: the object's image displacement since the last frame.
+    const Eigen::Vector2d now_px = project_px(dominant, object_W);
+    auto& motion = summary.motion[static_cast<std::size_t>(dominant)];
+    motion.valid = have_previous_frame_;
+    motion.flow_x_px = static_cast<float>(now_px.x() - previous_object_px_.x());
+    motion.flow_y_px = static_cast<float>(now_px.y() - previous_object_px_.y());
+    previous_object_px_ = now_px;
+    have_previous_frame_ = true;
+    summaries_.write(summary);
+  }
+
+  hal::HardwareInfo hardware_;
+  Kinematics truth_;
+  std::vector<std::string> rig_order_;
+  std::vector<double> q_rig_;
+  std::vector<double> previous_q_rig_;
+  JointTargetFrame pose_;
+  GazeLoopParams params_;
+  hal::SeqlockChannel<JointStateFrame> states_;
+  hal::SeqlockChannel<perception::SsmSummary> summaries_;
+  hal::SeqlockChannel<perception::SsmRequest> requests_;
+  hal::SeqlockChannel<GazeCommand> commands_;
+  hal::SeqlockChannel<JointTargetFrame> targets_;
+  std::unique_ptr<GazeLoop> loop_;
+  std::uint64_t sequence_ = 0;
+  std::uint64_t frames_ = 0;
+  std::uint64_t cycle_ = 0;
+  std::int64_t now_ns_ = 1'000'000'000;
+  Eigen::Vector2d previous_object_px_ = Eigen::Vector2d::Zero();
+  bool have_previous_frame_ = false;
+};
+
+// Eye height in the shipped rig: neck 1.20 + 0.10 + 0.10 m; pan axes at x = 0.04 m.
+const Eigen::Vector3d kAhead(1.0, 0.0, 1.40);
+
+TEST(GazeLoop, FixatesAPointWithTheEyesAloneWithinTheNeckRule) {
+  GazeHarness head;
+  head.build();
+  const Eigen::Vector3d target(1.0, std::tan(10.0 * kDeg) * 0.96 + 0.06, 1.45);
+  head.command(GazeAction::kFixate, GazeHarness::point(target));
+  for (int i = 0; i < 600; ++i) head.step(&target);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, target), 0.01);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, target), 0.05);
+  EXPECT_LT(std::abs(head.q_deg("neck_pan")), 0.5) << "10 degrees is the eyes' job";
+  EXPECT_NEAR(head.q_deg("left_eye_pan"), 10.0, 0.5);
+}
+
+TEST(GazeLoop, BeyondThirtyDegreesTheNeckTurnsAndTheEyesComeBack) {
+  GazeHarness head;
+  head.build();
+  const Eigen::Vector3d target(1.2 * std::cos(50.0 * kDeg), 1.2 * std::sin(50.0 * kDeg), 1.40);
+  head.command(GazeAction::kFixate, GazeHarness::point(target));
+  for (int i = 0; i < 1600; ++i) head.step(&target);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, target), 0.05);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, target), 0.1);
+  EXPECT_LE(std::abs(head.q_deg("left_eye_pan")), 30.0 + 0.5);
+  EXPECT_LE(std::abs(head.q_deg("right_eye_pan")), 30.0 + 0.5);
+  EXPECT_GT(head.q_deg("neck_pan"), 15.0);
+}
+
+TEST(GazeLoop, EyesStartedDivergedAreCommandedParallelAtOnce) {
+  GazeHarness head({{"left_eye_pan", 5.0}, {"right_eye_pan", -5.0}});
+  head.build();
+  head.step();
+  EXPECT_GE(head.q_deg("right_eye_pan"), head.q_deg("left_eye_pan"));
+  EXPECT_NEAR(head.status().vergence_rad, 0.0, 1e-12);
+}
+
+TEST(GazeLoop, VergesOnWhatTheDominantEyeFixates) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.02);
+  EXPECT_GT(head.status().vergence_rad, 0.0);
+  EXPECT_GT(head.loop().corrections(), 3U);
+  EXPECT_TRUE(head.status().believed_fixation_valid);
+  const auto p = head.status().believed_fixation_W_m;
+  EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - sphere).norm(), 0.01);
+}
+
+TEST(GazeLoop, VergenceNeverDivergesNorWindsUpAtALimit) {
+  GazeHarness head;
+  head.params().vergence.max_step_rad = 10.0 * kDeg;
+  head.build();
+  head.command(GazeAction::kHold);
+  // Measurements telling the right eye to turn right of parallel (negative disparity with the
+  // left eye dominant) leave the eyes parallel.
+  for (int i = 0; i < 200; ++i) head.step(&kAhead, -80.0);
+  EXPECT_GE(head.q_deg("right_eye_pan") - head.q_deg("left_eye_pan"), -1e-9);
+  EXPECT_NEAR(head.status().vergence_rad, 0.0, 1e-12);
+  // Measurements telling it to turn left for ever: it stops at its 45-degree limit however often
+  // it is told to go on, and comes back at the first measurement saying so.
+  for (int i = 0; i < 400; ++i) head.step(&kAhead, 400.0);
+  EXPECT_NEAR(head.q_deg("right_eye_pan"), 45.0, 1e-6);
+  const double at_limit = head.status().vergence_rad;
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&kAhead, -80.0);
+  EXPECT_LT(head.status().vergence_rad, at_limit - 1.0 * kDeg) << "wound up at the limit";
+}
+
+TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  const double verged = head.status().vergence_rad;
+  // One frame of an object crossing the line of sight: 40 px, then the target again.
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "a lone jump moved the eye";
+  EXPECT_EQ(head.loop().held_jumps(), 1U);
+  for (int i = 0; i < 100; ++i) head.step(&sphere);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4);
+  // The target's depth really changed: the second measurement confirms the first.
+  for (int i = 0; i < 2 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
+}
+
+TEST(GazeLoop, SaccadeStaysWithinTheJointLimitsAndKeepsVergenceUntilItStops) {
+  const Eigen::Vector3d left_cube(1.1, 0.22, 1.40);
+  const Eigen::Vector3d right_cube(1.1, -0.22, 1.40);
+  GazeHarness head;
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(left_cube));
+  for (int i = 0; i < 600; ++i) head.step(&left_cube);
+  ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, left_cube), 0.05);
+  const double vergence_before = head.status().vergence_rad;
+  head.command(GazeAction::kSaccade, GazeHarness::point(right_cube));
+  int saccade_cycles = 0;
+  for (int i = 0; i < 200; ++i) {
+    head.step(&right_cube);
+    const GazeStatus status = head.status();
+    if (!status.saccade_active) break;
+    ++saccade_cycles;
+    EXPECT_NEAR(status.vergence_rad, vergence_before, 1e-9) << "the other eye moves conjugately";
+    for (const char* joint : {"neck_pan", "neck_tilt", "eye_tilt", "left_eye_pan"}) {
+      EXPECT_LE(std::abs(head.velocity_rad_s(joint)), head.limit_velocity(joint) * 1.0001) << joint;
+    }
+  }
+  EXPECT_GT(saccade_cycles, 2);
+  EXPECT_LT(saccade_cycles, 40) << "a saccade of about 24 degrees at 8 rad/s takes tens of ms";
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, right_cube), 0.05);
+  for (int i = 0; i < 100; ++i) head.step(&right_cube);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, right_cube), 0.05) << "re-verged";
+}
+
+TEST(GazeLoop, PursuesATargetMovingAtTenDegreesPerSecond) {
+  Eigen::Vector3d ball(1.0, 0.06, 1.40);  // Straight ahead of the left eye.
+  GazeHarness head;
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(ball));
+  for (int i = 0; i < 200; ++i) head.step(&ball);
+  head.command(GazeAction::kPursue);
+  head.step(&ball);
+  EXPECT_TRUE(head.request().features.motion) << "pursuit asks the SSM for motion";
+  // 10 deg/s about the left eye's pan axis at 0.96 m: 0.1676 m/s sideways.
+  const double speed_m_s = 0.96 * 10.0 * kDeg;
+  double sum_sq = 0.0;
+  int samples = 0;
+  for (int i = 0; i < 600; ++i) {
+    ball.y() -= speed_m_s * kPeriodS;
+    head.step(&ball);
+    if (i >= 200) {  // After a second to catch up.
+      const double e = head.gaze_error_deg(hal::Eye::kLeft, ball);
+      sum_sq += e * e;
+      ++samples;
+    }
+  }
+  EXPECT_LT(std::sqrt(sum_sq / samples), 0.3);
+}
+
+TEST(GazeLoop, AnglesAndPixelTargetsAreTakenFromWhereTheEyeLooksNow) {
+  GazeHarness head;
+  head.build();
+  GazeTarget angles;
+  angles.kind = GazeTargetKind::kAngles;
+  angles.angles_rad = {8.0 * kDeg, 4.0 * kDeg};  // Left and down.
+  head.command(GazeAction::kFixate, angles);
+  for (int i = 0; i < 800; ++i) head.step();
+  EXPECT_NEAR(head.q_deg("left_eye_pan"), 8.0, 0.3);
+  EXPECT_NEAR(head.q_deg("eye_tilt") + head.q_deg("neck_tilt"), 4.0, 0.3);
+}
+
+TEST(GazeLoop, APixelTargetBringsWhatWasThereToTheImageCentre) {
+  GazeHarness head;
+  head.build();
+  const auto& k = head.hardware().find_camera("left_eye")->intrinsics;
+  // 80 px right of and 40 px above the principal point; with no depth known (the eyes are
+  // parallel) the loop places it at the default depth, 1 m along the pixel's ray.
+  const double u = k.principal_x_px + 80.0;
+  const double v = k.principal_y_px - 40.0;
+  const Eigen::Isometry3d X_WC = head.camera_pose_W(hal::Eye::kLeft);
+  const Eigen::Vector3d ray_C((u - k.principal_x_px) / k.focal_x_px,
+                              (v - k.principal_y_px) / k.focal_y_px, 1.0);
+  const Eigen::Vector3d seen_W = X_WC * (1.0 * ray_C.normalized());
+  GazeTarget pixel;
+  pixel.kind = GazeTargetKind::kPixel;
+  pixel.pixel_px = {u, v};
+  head.command(GazeAction::kFixate, pixel);
+  for (int i = 0; i < 800; ++i) head.step();
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, seen_W), 0.01);
+  EXPECT_LT(head.q_deg("left_eye_pan"), -7.0) << "turned right";
+  EXPECT_LT(head.q_deg("eye_tilt") + head.q_deg("neck_tilt"), -3.0) << "looked up";
+}
+
+TEST(GazeLoop, PredictiveVergenceArrivesVerged) {
+  const Eigen::Vector3d near_left(0.8, 0.25, 1.40);
+  const Eigen::Vector3d far_right(1.4, -0.30, 1.40);
+  GazeHarness head;
+  head.params().predictive_vergence = true;
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(near_left));
+  for (int i = 0; i < 600; ++i) head.step(&near_left);
+  head.command(GazeAction::kSaccade, GazeHarness::point(far_right));
+  for (int i = 0; i < 200 && (i == 0 || head.status().saccade_active); ++i) head.step();
+  // No disparity was reported since the command: the vergence came from the target's depth.
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, far_right), 0.05);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, far_right), 0.05);
+}
+
+}  // namespace
+}  // namespace cambio::control

@@ -1,8 +1,10 @@
 // `cambio perception-bench`: the paper's claim, measured. On one 640x480 stereo pair: the whole
 // SSM (retinas, every operator at 3 sigmas, disparity, motion, moments) for the paper's 4 x 16 x 16
-// retina and for 4 x 64 x 64; a memcpy of both images (the memory bound); the same operator set
-// on the full images with cv::sepFilter2D (the "filter everything" approach); and cv::StereoBM
-// on the full pair. Every figure is the median time per stereo pair.
+// retina (its coarsest level covering the whole field) on grey and on rgb8 frames, for the same
+// retina without the field-covering level (fovea only) and for 4 x 64 x 64; a memcpy of both
+// images (the memory bound), alternated with the paper's SSM in rounds; the same operator set on
+// the full images with cv::sepFilter2D (the "filter everything" approach); and cv::StereoBM on
+// the full pair. Every figure is the median time per stereo pair.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,7 +37,7 @@ constexpr int kWidth = 640;
 constexpr int kHeight = 480;
 
 /// A textured pair with 3.3 px of disparity (band-limited, so sub-pixel shifts are exact).
-void make_pair(hal::Image& left, hal::Image& right) {
+void make_pair(hal::Image& left, hal::Image& right, hal::Image& left_rgb, hal::Image& right_rgb) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   struct Wave {
@@ -63,6 +65,15 @@ void make_pair(hal::Image& left, hal::Image& right) {
       right.row(y)[x] = value(x + 3.3, y);
     }
   }
+  // The same pair as the cameras deliver it: rgb8 whose luma is the grey pair.
+  const auto to_rgb = [](const hal::Image& grey, hal::Image& rgb) {
+    rgb.resize(grey.width_px, grey.height_px, hal::PixelFormat::kRgb8);
+    for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
+      for (std::size_t c = 0; c < 3; ++c) rgb.pixels[3 * i + c] = grey.pixels[i];
+    }
+  };
+  to_rgb(left, left_rgb);
+  to_rgb(right, right_rgb);
 }
 
 /// Median wall time of `run` in microseconds, after a warm-up, over `repeats` runs.
@@ -86,21 +97,35 @@ struct SsmFigures {
   float confidence = 0;
 };
 
+/// One SSM and its output frame, processing the pair fixated at the image centre.
+class SsmRun {
+ public:
+  SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right)
+      : servo_(config, kWidth, kHeight), frame_(servo_.make_frame()), left_(left), right_(right) {}
+  const perception::SsmFrame& run() {
+    const perception::PixelPoint centre{kWidth / 2, kHeight / 2};
+    if (servo_.process(left_, right_, centre, centre, perception::FeatureRequest{}, frame_) !=
+        hal::Status::kOk) {
+      throw std::runtime_error("SSM rejected the benchmark pair");
+    }
+    return frame_;
+  }
+  const perception::SsmFrame& frame() const { return frame_; }
+
+ private:
+  perception::SensoryServo servo_;
+  perception::SsmFrame frame_;
+  const hal::Image& left_;
+  const hal::Image& right_;
+};
+
 SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
                     const hal::Image& right, int repeats) {
-  perception::SensoryServo servo(config, kWidth, kHeight);
-  perception::SsmFrame frame = servo.make_frame();
-  const perception::PixelPoint centre{kWidth / 2, kHeight / 2};
-  const perception::FeatureRequest request;
+  SsmRun ssm(config, left, right);
   std::vector<perception::SsmTimings> parts;
   parts.reserve(static_cast<std::size_t>(repeats) * 2);
   SsmFigures figures;
-  figures.total_us = median_us(repeats, [&] {
-    if (servo.process(left, right, centre, centre, request, frame) != hal::Status::kOk) {
-      throw std::runtime_error("SSM rejected the benchmark pair");
-    }
-    parts.push_back(frame.summary.timings);
-  });
+  figures.total_us = median_us(repeats, [&] { parts.push_back(ssm.run().summary.timings); });
   const auto median_of = [&](double perception::SsmTimings::*field) {
     std::vector<double> values;
     for (const auto& p : parts) values.push_back(p.*field);
@@ -114,8 +139,8 @@ SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
                    median_of(&perception::SsmTimings::motion_us),
                    median_of(&perception::SsmTimings::moments_us),
                    median_of(&perception::SsmTimings::total_us)};
-  figures.disparity_px = frame.summary.disparity.disparity_px;
-  figures.confidence = frame.summary.disparity.confidence;
+  figures.disparity_px = ssm.frame().summary.disparity.disparity_px;
+  figures.confidence = ssm.frame().summary.disparity.confidence;
   return figures;
 }
 
@@ -183,7 +208,8 @@ int run_perception_bench_command(std::span<const std::string> args) {
   ArgumentParser parser("perception-bench", "[--json] [--repeats N]");
   parser.flag("json", "print one JSON object with the medians and ratios")
       .option("repeats", "N",
-              "timed runs per figure, 5 to 100000 (default 300; the 64x64 SSM and OpenCV use N/5)");
+              "timed runs per figure, 5 to 100000 (default 300; the 64x64 SSM and OpenCV use N/5, "
+              "each memcpy-vs-SSM round N/11)");
   if (!parser.parse(args)) return kExitOk;
   const int repeats = static_cast<int>(parser.integer(
       "repeats", 300, config::Range::closed(5, 100'000),
@@ -193,22 +219,51 @@ int run_perception_bench_command(std::span<const std::string> args) {
 
   hal::Image left;
   hal::Image right;
-  make_pair(left, right);
+  hal::Image left_rgb;
+  hal::Image right_rgb;
+  make_pair(left, right, left_rgb, right_rgb);
 
-  perception::SsmConfig paper;  // 4 x 16 x 16, sigmas 1.4, 2.7, 4, s = ceil(3 sigma)
-  perception::SsmConfig wide = paper;
+  // The paper's retina: 4 x 16 x 16, its coarsest level widened to cover the whole field;
+  // sigmas 1.4, 2.7, 4, s = ceil(3 sigma).
+  perception::SsmConfig paper;
+  paper.retina.coarsest_covers_field = true;
+  perception::SsmConfig fovea_only = paper;  // Coarsest level 8 px blocks, 128 px wide.
+  fovea_only.retina.coarsest_covers_field = false;
+  perception::SsmConfig wide = fovea_only;
   wide.retina.width_px = 64;
   wide.retina.height_px = 64;
   const SsmFigures ssm_paper = time_ssm(paper, left, right, repeats);
+  const SsmFigures ssm_paper_rgb = time_ssm(paper, left_rgb, right_rgb, repeats);
+  const SsmFigures ssm_fovea_only = time_ssm(fovea_only, left, right, repeats);
   const SsmFigures ssm_64 = time_ssm(wide, left, right, std::max(5, repeats / 5));
 
+  // The memory bound, alternated with the paper's SSM in short rounds: the ratio is the median
+  // of the rounds' ratios, so a burst of load from another process skews one round, not the
+  // figure (as sim-bench does for rendering).
   hal::Image left_copy = left;
   hal::Image right_copy = right;
-  const double memcpy_us = median_us(repeats, [&] {
+  const auto copy_both = [&] {
     std::memcpy(left_copy.pixels.data(), left.pixels.data(), left.pixels.size());
     std::memcpy(right_copy.pixels.data(), right.pixels.data(), right.pixels.size());
     asm volatile("" : : "r"(left_copy.pixels.data()), "r"(right_copy.pixels.data()) : "memory");
-  });
+  };
+  SsmRun paper_run(paper, left, right);
+  constexpr int kRounds = 11;
+  const int per_round = std::max(5, repeats / kRounds);
+  std::vector<double> memcpy_round_us;
+  std::vector<double> ratios;
+  for (int round = 0; round < kRounds; ++round) {
+    const double copy_us = median_us(per_round, copy_both);
+    const double ssm_us = median_us(per_round, [&] { (void)paper_run.run(); });
+    memcpy_round_us.push_back(copy_us);
+    ratios.push_back(ssm_us / copy_us);
+  }
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+  };
+  const double memcpy_us = median(memcpy_round_us);
+  const double paper_vs_memcpy = median(ratios);
 
   FullImageFilter full(paper.operators);
   const double opencv_filter_us = median_us(std::max(5, repeats / 5), [&] {
@@ -224,7 +279,6 @@ int run_perception_bench_command(std::span<const std::string> args) {
                                         [&] { matcher->compute(left_mat, right_mat, disparity); });
 
   const double paper_vs_filter = opencv_filter_us / ssm_paper.total_us;
-  const double paper_vs_memcpy = ssm_paper.total_us / memcpy_us;
   const double wide_vs_filter = opencv_filter_us / ssm_64.total_us;
   const double wide_vs_memcpy = ssm_64.total_us / memcpy_us;
   if (parser.flag_set("json")) {
@@ -236,44 +290,60 @@ int run_perception_bench_command(std::span<const std::string> args) {
                   {"moments", as_printed(t.moments_us, "%.2f")}};
     };
     const Json figures = {
-        {"image", "640x480 grey stereo pair"},
+        {"image", "640x480 stereo pair, grey8 (and rgb8 for ssm_paper_rgb)"},
         {"threads", 1},
         {"repeats", repeats},
         {"ssm_paper_us", as_printed(ssm_paper.total_us, "%.2f")},
+        {"ssm_paper_rgb_us", as_printed(ssm_paper_rgb.total_us, "%.2f")},
+        {"ssm_fovea_only_us", as_printed(ssm_fovea_only.total_us, "%.2f")},
         {"ssm_64_us", as_printed(ssm_64.total_us, "%.2f")},
         {"memcpy_us", as_printed(memcpy_us, "%.2f")},
         {"opencv_full_filter_us", as_printed(opencv_filter_us, "%.1f")},
         {"opencv_stereo_bm_us", as_printed(stereo_bm_us, "%.1f")},
         {"opencv_full_filter_over_ssm_paper", as_printed(paper_vs_filter, "%.1f")},
         {"ssm_paper_over_memcpy", as_printed(paper_vs_memcpy, "%.2f")},
+        {"ssm_paper_over_memcpy_rounds", kRounds},
+        {"ssm_paper_rgb_over_ssm_paper",
+         as_printed(ssm_paper_rgb.total_us / ssm_paper.total_us, "%.2f")},
+        {"ssm_paper_retina_over_fovea_only_retina",
+         as_printed(ssm_paper.parts.retina_us / ssm_fovea_only.parts.retina_us, "%.2f")},
+        {"ssm_paper_rgb_retina_over_ssm_paper_retina",
+         as_printed(ssm_paper_rgb.parts.retina_us / ssm_paper.parts.retina_us, "%.2f")},
         {"opencv_full_filter_over_ssm_64", as_printed(wide_vs_filter, "%.1f")},
         {"ssm_64_over_memcpy", as_printed(wide_vs_memcpy, "%.2f")},
         {"opencv_stereo_bm_over_ssm_paper", as_printed(stereo_bm_us / ssm_paper.total_us, "%.1f")},
         {"ssm_paper_parts_us", parts(ssm_paper.parts)},
+        {"ssm_paper_rgb_parts_us", parts(ssm_paper_rgb.parts)},
+        {"ssm_fovea_only_parts_us", parts(ssm_fovea_only.parts)},
         {"ssm_64_parts_us", parts(ssm_64.parts)},
         {"ssm_paper_disparity_px", as_printed(ssm_paper.disparity_px, "%.3f")},
+        {"ssm_fovea_only_disparity_px", as_printed(ssm_fovea_only.disparity_px, "%.3f")},
         {"ssm_64_disparity_px", as_printed(ssm_64.disparity_px, "%.3f")},
         {"true_disparity_px", 3.3}};
     std::cout << json_text(figures);
     return kExitOk;
   }
-  std::printf("perception-bench: 640x480 grey stereo pair, one thread, medians per pair\n");
-  std::printf(
-      "  SSM 4 x 16 x 16 (paper)     %10.1f us   (retina %.1f, features %.1f, disparity %.1f, "
-      "motion %.1f, moments %.1f)\n",
-      ssm_paper.total_us, ssm_paper.parts.retina_us, ssm_paper.parts.features_us,
-      ssm_paper.parts.disparity_us, ssm_paper.parts.motion_us, ssm_paper.parts.moments_us);
-  std::printf(
-      "  SSM 4 x 64 x 64             %10.1f us   (retina %.1f, features %.1f, disparity %.1f, "
-      "motion %.1f, moments %.1f)\n",
-      ssm_64.total_us, ssm_64.parts.retina_us, ssm_64.parts.features_us, ssm_64.parts.disparity_us,
-      ssm_64.parts.motion_us, ssm_64.parts.moments_us);
-  std::printf("  memcpy of both images       %10.1f us\n", memcpy_us);
+  std::printf("perception-bench: 640x480 stereo pair, one thread, medians per pair\n");
+  const auto print_ssm = [](const char* name, const SsmFigures& f) {
+    std::printf(
+        "  %-28s%10.1f us   (retina %.1f, features %.1f, disparity %.1f, motion %.1f, "
+        "moments %.1f)\n",
+        name, f.total_us, f.parts.retina_us, f.parts.features_us, f.parts.disparity_us,
+        f.parts.motion_us, f.parts.moments_us);
+  };
+  print_ssm("SSM paper (grey)", ssm_paper);
+  print_ssm("SSM paper (rgb8)", ssm_paper_rgb);
+  print_ssm("SSM fovea only (grey)", ssm_fovea_only);
+  print_ssm("SSM 4 x 64 x 64 (fovea)", ssm_64);
+  std::printf("  memcpy of both images       %10.1f us   (median of %d rounds)\n", memcpy_us,
+              kRounds);
   std::printf("  OpenCV full-image filters   %10.1f us   (same operator set, cv::sepFilter2D)\n",
               opencv_filter_us);
   std::printf("  OpenCV StereoBM full pair   %10.1f us\n", stereo_bm_us);
-  std::printf("  paper SSM: %.0fx faster than full-image filtering, %.2fx a memcpy\n",
-              paper_vs_filter, paper_vs_memcpy);
+  std::printf(
+      "  paper SSM: %.0fx faster than full-image filtering, %.2fx a memcpy (median of %d "
+      "alternating rounds)\n",
+      paper_vs_filter, paper_vs_memcpy, kRounds);
   std::printf("  64x64 SSM: %.0fx faster than full-image filtering, %.2fx a memcpy\n",
               wide_vs_filter, wide_vs_memcpy);
   std::printf("  disparity at the fovea: %.3f px (paper), %.3f px (64x64); true 3.3 px\n",

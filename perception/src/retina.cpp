@@ -9,28 +9,100 @@ namespace cambio::perception {
 
 namespace {
 
-void rgb_row_to_grey(const std::uint8_t* rgb, std::uint8_t* grey, int width) {
-  for (int x = 0; x < width; ++x) {
-    grey[x] = hal::luma_bt601(rgb[3 * x], rgb[3 * x + 1], rgb[3 * x + 2]);
+// Adds `weight` times one source row to the column sums: grey pixels as they are, rgb8 pixels
+// through hal::luma_bt601, so only the pixels a level reads are converted, inside the sum, and a
+// colour frame gives exactly the levels of its grey conversion. The weight of a replicated edge
+// row is the count of rows beyond the edge that map onto it.
+template <typename Sum>
+[[gnu::always_inline]] inline void accumulate_row(Sum* __restrict sums,
+                                                  const std::uint8_t* __restrict row, int count,
+                                                  unsigned weight, bool rgb) {
+  if (rgb) {
+    if (weight == 1) {
+      for (int i = 0; i < count; ++i) {
+        sums[i] =
+            static_cast<Sum>(sums[i] + hal::luma_bt601(row[3 * i], row[3 * i + 1], row[3 * i + 2]));
+      }
+    } else {
+      for (int i = 0; i < count; ++i) {
+        sums[i] = static_cast<Sum>(
+            sums[i] + weight * hal::luma_bt601(row[3 * i], row[3 * i + 1], row[3 * i + 2]));
+      }
+    }
+  } else if (weight == 1) {
+    for (int i = 0; i < count; ++i) sums[i] = static_cast<Sum>(sums[i] + row[i]);
+  } else {
+    for (int i = 0; i < count; ++i) sums[i] = static_cast<Sum>(sums[i] + weight * row[i]);
   }
 }
 
 __attribute__((target_clones("avx2", "default"))) void add_row(std::uint32_t* __restrict sums,
                                                                const std::uint8_t* __restrict row,
-                                                               int count) {
-  for (int i = 0; i < count; ++i) sums[i] += row[i];
+                                                               int count, unsigned weight,
+                                                               bool rgb) {
+  accumulate_row(sums, row, count, weight, rgb);
 }
 
 __attribute__((target_clones("avx2", "default"))) void add_row(std::uint16_t* __restrict sums,
                                                                const std::uint8_t* __restrict row,
-                                                               int count) {
-  for (int i = 0; i < count; ++i) sums[i] = static_cast<std::uint16_t>(sums[i] + row[i]);
+                                                               int count, unsigned weight,
+                                                               bool rgb) {
+  accumulate_row(sums, row, count, weight, rgb);
 }
 
-template <typename Sum>
-void add_row_gathered(Sum* __restrict sums, const std::uint8_t* __restrict row,
-                      const std::int32_t* __restrict index, int count) {
-  for (int i = 0; i < count; ++i) sums[i] = static_cast<Sum>(sums[i] + row[index[i]]);
+// Sets sums[i] to the sum over `rows` rows (from `top`, `stride` bytes apart) of pixel i, grey or
+// through hal::luma_bt601: one call per block row, each strip of columns summed down all rows
+// while its sums stay in registers, so a tall block (a field-covering level's 40 rows at
+// 640 x 480) costs a load and an add per pixel, not a row call and a store.
+template <typename Sum, int kChannels>
+[[gnu::always_inline]] inline void sum_rows_impl(Sum* __restrict sums,
+                                                 const std::uint8_t* __restrict top,
+                                                 std::ptrdiff_t stride, int rows, int count) {
+  const auto pixel = [](const std::uint8_t* p, int i) -> unsigned {
+    if constexpr (kChannels == 3) {
+      return hal::luma_bt601(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    } else {
+      return p[i];
+    }
+  };
+  constexpr int kStrip = 64;
+  int x = 0;
+  for (; x + kStrip <= count; x += kStrip) {
+    Sum acc[kStrip] = {};
+    const std::uint8_t* p = top + static_cast<std::ptrdiff_t>(x) * kChannels;
+    for (int y = 0; y < rows; ++y, p += stride) {
+      for (int i = 0; i < kStrip; ++i) acc[i] = static_cast<Sum>(acc[i] + pixel(p, i));
+    }
+    for (int i = 0; i < kStrip; ++i) sums[x + i] = acc[i];
+  }
+  if (x == count) return;
+  std::fill(sums + x, sums + count, Sum{0});
+  const std::uint8_t* p = top + static_cast<std::ptrdiff_t>(x) * kChannels;
+  for (int y = 0; y < rows; ++y, p += stride) {
+    for (int i = 0; i < count - x; ++i) sums[x + i] = static_cast<Sum>(sums[x + i] + pixel(p, i));
+  }
+}
+
+__attribute__((target_clones("avx2", "default"))) void sum_rows(std::uint32_t* __restrict sums,
+                                                                const std::uint8_t* __restrict top,
+                                                                std::ptrdiff_t stride, int rows,
+                                                                int count, bool rgb) {
+  if (rgb) {
+    sum_rows_impl<std::uint32_t, 3>(sums, top, stride, rows, count);
+  } else {
+    sum_rows_impl<std::uint32_t, 1>(sums, top, stride, rows, count);
+  }
+}
+
+__attribute__((target_clones("avx2", "default"))) void sum_rows(std::uint16_t* __restrict sums,
+                                                                const std::uint8_t* __restrict top,
+                                                                std::ptrdiff_t stride, int rows,
+                                                                int count, bool rgb) {
+  if (rgb) {
+    sum_rows_impl<std::uint16_t, 3>(sums, top, stride, rows, count);
+  } else {
+    sum_rows_impl<std::uint16_t, 1>(sums, top, stride, rows, count);
+  }
 }
 
 // A compile-time block width: the block sum is a fixed run of adds the compiler turns into
@@ -90,6 +162,30 @@ int ceil_div(int a, int b) {
   return (a + b - 1) / b;
 }
 
+// A column sum of b rows of bytes fits 16 bits while b * 255 < 2^16: twice the lanes per add.
+constexpr int kMaxScale16 = 257;
+
+// The source positions [start, start + n) clamped to [0, size) (replicate): positions [first,
+// end) are read, `before` positions fall before the edge and map onto `first`, `after` fall past
+// it and map onto end - 1; the rest are inside, once each. size > 0, n > 0.
+struct ClampedSpan {
+  int first = 0;
+  int end = 0;
+  int before = 0;
+  int after = 0;
+  int inside(int n) const { return n - before - after; }
+  bool operator==(const ClampedSpan&) const = default;
+};
+
+ClampedSpan clamp_span(int start, int n, int size) {
+  ClampedSpan span;
+  span.first = std::clamp(start, 0, size - 1);
+  span.end = std::clamp(start + n - 1, 0, size - 1) + 1;
+  span.before = std::clamp(span.first - start, 0, n);
+  span.after = std::clamp(start + n - span.end, 0, n);
+  return span;
+}
+
 }  // namespace
 
 Retina::Retina(const RetinaConfig& config, int apron_px, int image_width_px, int image_height_px)
@@ -109,10 +205,10 @@ Retina::Retina(const RetinaConfig& config, int apron_px, int image_width_px, int
   const std::size_t padded_h = static_cast<std::size_t>(height_ + 2 * apron_);
   levels_.resize(static_cast<std::size_t>(config.levels));
   for (auto& level : levels_) level.samples.assign(padded_w * padded_h, 0.0f);
-  column_sums_.assign(padded_w * static_cast<std::size_t>(max_scale_), 0u);
-  column_sums16_.assign(padded_w * static_cast<std::size_t>(std::min(max_scale_, 16)), 0u);
-  column_index_.assign(padded_w * static_cast<std::size_t>(max_scale_), 0);
-  luma_row_.assign(static_cast<std::size_t>(std::max(image_width_px, 1)), 0u);
+  column_sums16_.assign(padded_w * static_cast<std::size_t>(std::min(max_scale_, kMaxScale16)), 0u);
+  if (max_scale_ > kMaxScale16) {
+    column_sums_.assign(padded_w * static_cast<std::size_t>(max_scale_), 0u);
+  }
 }
 
 int Retina::scale_of(int k, int image_width, int image_height, PixelPoint fixation) const {
@@ -132,10 +228,6 @@ int Retina::scale_of(int k, int image_width, int image_height, PixelPoint fixati
 
 hal::Status Retina::build(const hal::Image& image, PixelPoint fixation) noexcept {
   if (image.empty() || image.width_px <= 0 || image.height_px <= 0) return hal::Status::kRejected;
-  if (image.format == hal::PixelFormat::kRgb8 &&
-      static_cast<std::size_t>(image.width_px) > luma_row_.size()) {
-    return hal::Status::kRejected;
-  }
   fixation_ = fixation;
   for (int k = 0; k < levels(); ++k) {
     Level& level = levels_[static_cast<std::size_t>(k)];
@@ -149,10 +241,6 @@ hal::Status Retina::build(const hal::Image& image, PixelPoint fixation) noexcept
 
 hal::Status Retina::build_one_level(const hal::Image& image, int k, PixelPoint fixation) noexcept {
   if (image.empty() || image.width_px <= 0 || image.height_px <= 0 || k < 0 || k >= levels()) {
-    return hal::Status::kRejected;
-  }
-  if (image.format == hal::PixelFormat::kRgb8 &&
-      static_cast<std::size_t>(image.width_px) > luma_row_.size()) {
     return hal::Status::kRejected;
   }
   Level& level = levels_[static_cast<std::size_t>(k)];
@@ -170,44 +258,74 @@ void Retina::build_level(const hal::Image& image, Level& level) noexcept {
   const int span_w = padded_w * b;  // Source columns under the level, apron included.
   const int x0 = level.origin_x_px - apron_ * b;
   const int y0 = level.origin_y_px - apron_ * b;
-  const bool columns_inside = x0 >= 0 && x0 + span_w <= image.width_px;
-  if (!columns_inside) {
-    for (int j = 0; j < span_w; ++j) {
-      column_index_[static_cast<std::size_t>(j)] = std::clamp(x0 + j, 0, image.width_px - 1);
-    }
-  }
-  const int inside_w = std::max(0, std::min(x0 + span_w, image.width_px) - std::max(x0, 0));
-  const int inside_h = std::max(0, std::min(y0 + padded_h * b, image.height_px) - std::max(y0, 0));
-  level.fraction_inside = static_cast<float>(static_cast<double>(inside_w) * inside_h /
-                                             (static_cast<double>(span_w) * padded_h * b));
+  const ClampedSpan columns = clamp_span(x0, span_w, image.width_px);
+  const int inside_h = clamp_span(y0, padded_h * b, image.height_px).inside(padded_h * b);
+  level.fraction_inside =
+      static_cast<float>(static_cast<double>(columns.inside(span_w)) * inside_h /
+                         (static_cast<double>(span_w) * padded_h * b));
 
+  // Only the columns [first, end) are read, once per row; columns beyond the image edge are
+  // the edge column counted again in the horizontal reduction, so a level wider than the image
+  // (a field-covering one with its apron) still reads each source pixel once.
+  const int read = columns.end - columns.first;
   const bool rgb = image.format == hal::PixelFormat::kRgb8;
+  const int first_byte = columns.first * (rgb ? 3 : 1);
+  // Blocks [full_lo, full_hi) lie wholly inside the read columns: the fixed-width reduction.
+  const int full_lo = std::min(padded_w, x0 >= columns.first ? 0 : ceil_div(columns.first - x0, b));
+  const int full_hi =
+      std::clamp(columns.end - x0 >= 0 ? (columns.end - x0) / b : 0, full_lo, padded_w);
   const float norm = 1.0f / static_cast<float>(b * b);
-  const auto sum_rows = [&](auto* sums) {
+  const auto build_rows = [&](auto* sums) {
+    ClampedSpan previous{};
     for (int row = 0; row < padded_h; ++row) {
-      std::fill(sums, sums + span_w, 0u);
-      for (int dy = 0; dy < b; ++dy) {
-        const int sy = std::clamp(y0 + row * b + dy, 0, image.height_px - 1);
-        const std::uint8_t* src = image.row(sy);
-        if (rgb) {
-          rgb_row_to_grey(src, luma_row_.data(), image.width_px);
-          src = luma_row_.data();
-        }
-        if (columns_inside) {
-          add_row(sums, src + x0, span_w);
-        } else {
-          add_row_gathered(sums, src, column_index_.data(), span_w);
-        }
+      float* out = level.samples.data() + static_cast<std::ptrdiff_t>(row) * padded_w;
+      const int start = y0 + row * b;
+      const ClampedSpan rows = clamp_span(start, b, image.height_px);
+      if (row > 0 && rows == previous) {
+        // A block row wholly beyond the top or bottom edge repeats the one before it.
+        std::copy(out - padded_w, out, out);
+        continue;
       }
-      reduce_blocks(sums, level.samples.data() + static_cast<std::ptrdiff_t>(row) * padded_w,
-                    padded_w, b, norm);
+      previous = rows;
+      const int middle_first = std::max(start, rows.first);
+      if (rows.inside(b) > 0) {
+        sum_rows(sums, image.row(middle_first) + first_byte,
+                 static_cast<std::ptrdiff_t>(image.stride_bytes()), rows.inside(b), read, rgb);
+      } else {
+        std::fill(sums, sums + read, 0u);
+      }
+      if (rows.before > 0) {
+        add_row(sums, image.row(rows.first) + first_byte, read, static_cast<unsigned>(rows.before),
+                rgb);
+      }
+      if (rows.after > 0) {
+        add_row(sums, image.row(rows.end - 1) + first_byte, read, static_cast<unsigned>(rows.after),
+                rgb);
+      }
+      if (full_hi > full_lo) {
+        reduce_blocks(sums + (x0 + full_lo * b - columns.first), out + full_lo, full_hi - full_lo,
+                      b, norm);
+      }
+      // Blocks reaching past the left or right edge: the edge column's sum once per outside
+      // column (replicate), plus the columns inside.
+      const auto edge_block = [&](int bx) {
+        const int block_start = x0 + bx * b;
+        const ClampedSpan c = clamp_span(block_start, b, image.width_px);
+        const auto sum_at = [&](int x) -> std::uint32_t { return sums[x - columns.first]; };
+        std::uint32_t total = static_cast<std::uint32_t>(c.before) * sum_at(c.first) +
+                              static_cast<std::uint32_t>(c.after) * sum_at(c.end - 1);
+        const int inside_first = std::max(block_start, c.first);
+        for (int x = inside_first; x < inside_first + c.inside(b); ++x) total += sum_at(x);
+        out[bx] = static_cast<float>(total) * norm;
+      };
+      for (int bx = 0; bx < full_lo; ++bx) edge_block(bx);
+      for (int bx = full_hi; bx < padded_w; ++bx) edge_block(bx);
     }
   };
-  // Exact either way: a column sum of b <= 16 bytes fits 16 bits.
-  if (b <= 16) {
-    sum_rows(column_sums16_.data());
+  if (b <= kMaxScale16) {
+    build_rows(column_sums16_.data());
   } else {
-    sum_rows(column_sums_.data());
+    build_rows(column_sums_.data());
   }
 }
 

@@ -148,11 +148,19 @@ TEST(CambioCli, PerceptionBenchPrintsTheFiguresAsJson) {
   ASSERT_FALSE(figures.is_discarded()) << "not JSON:\n" << result.output;
   EXPECT_EQ(figures["repeats"], 5);
   EXPECT_EQ(figures["true_disparity_px"], 3.3);
-  for (const char* key : {"ssm_paper_us", "ssm_64_us", "memcpy_us", "opencv_full_filter_us",
-                          "opencv_stereo_bm_us", "ssm_paper_disparity_px"}) {
+  // ssm_paper: the paper's retina (coarsest level covering the field) on grey frames;
+  // ssm_paper_rgb the same on rgb8; ssm_fovea_only without the field-covering level.
+  for (const char* key :
+       {"ssm_paper_us", "ssm_paper_rgb_us", "ssm_fovea_only_us", "ssm_paper_over_memcpy",
+        "ssm_64_us", "memcpy_us", "opencv_full_filter_us", "opencv_stereo_bm_us",
+        "ssm_paper_disparity_px"}) {
     EXPECT_TRUE(figures[key].is_number()) << key << " in " << result.output;
   }
-  EXPECT_TRUE(figures["ssm_paper_parts_us"].contains("retina")) << result.output;
+  EXPECT_GE(figures["ssm_paper_over_memcpy_rounds"].get<int>(), 10) << result.output;
+  for (const char* parts :
+       {"ssm_paper_parts_us", "ssm_paper_rgb_parts_us", "ssm_fovea_only_parts_us"}) {
+    EXPECT_TRUE(figures[parts].contains("retina")) << parts << " in " << result.output;
+  }
 }
 
 TEST(CambioCli, RunRefusesAMissingExperiment) {

@@ -30,6 +30,8 @@ TEST(PerceptionConfig, ShippedFileIsTheDefaults) {
   const SsmConfig defaults;
   EXPECT_EQ(loaded.retina.levels, defaults.retina.levels);
   EXPECT_EQ(loaded.retina.width_px, defaults.retina.width_px);
+  // The one departure from the built-in defaults: the paper's field-covering coarsest level.
+  EXPECT_TRUE(loaded.retina.coarsest_covers_field);
   EXPECT_EQ(loaded.operators.sigmas_px, defaults.operators.sigmas_px);
   EXPECT_EQ(loaded.operators.half_width_sigmas, defaults.operators.half_width_sigmas);
   EXPECT_EQ(loaded.disparity.features, defaults.disparity.features);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "cambio/hal/luma.hpp"
 #include "synthetic_images.hpp"
@@ -109,6 +110,138 @@ TEST(Retina, CoarsestLevelCanCoverTheWholeField) {
               block_mean(image, coarse.origin_x_px + 3 * 40, coarse.origin_y_px + 5 * 40, 40),
               1e-3);
   EXPECT_EQ(retina.level(2).scale_px, 4);
+}
+
+// Every sample of `level`, apron included, against the mean of its block computed here from the
+// source pixels (edge pixels replicated), and its fraction_inside against a count of the
+// footprint's pixels that lie in the image.
+void expect_level_is_block_means(const RetinaLevelView& level, const hal::Image& image,
+                                 const char* what) {
+  const int b = level.scale_px;
+  const int a = level.apron;
+  for (int y = -a; y < level.height + a; ++y) {
+    for (int x = -a; x < level.width + a; ++x) {
+      const double expected =
+          block_mean(image, level.origin_x_px + x * b, level.origin_y_px + y * b, b);
+      // The block sums are exact integers below 2^24; the float mean differs by rounding only.
+      ASSERT_NEAR(level.at(x, y), expected, 1e-4)
+          << what << ": scale " << b << " at " << x << "," << y;
+    }
+  }
+  const auto inside = [b, a](int origin, int samples, int size) {
+    int count = 0;
+    for (int p = origin - a * b; p < origin + (samples + a) * b; ++p) count += p >= 0 && p < size;
+    return count;
+  };
+  const double footprint = static_cast<double>((level.width + 2 * a) * b) *
+                           static_cast<double>((level.height + 2 * a) * b);
+  EXPECT_NEAR(level.fraction_inside,
+              inside(level.origin_x_px, level.width, image.width_px) *
+                  static_cast<double>(inside(level.origin_y_px, level.height, image.height_px)) /
+                  footprint,
+              1e-6)
+      << what;
+}
+
+// The paper's retina, its last level covering the field: with the apron, that level reaches
+// past every edge of the image, and with the fixation off centre or outside the image its blocks
+// widen further; every sample is still the replicate-border block mean.
+TEST(Retina, FieldCoveringLevelIsTheBlockMeanAlsoPastEveryEdge) {
+  struct Case {
+    int width, height;
+    PixelPoint fixation;
+    int apron;
+  };
+  for (const Case c : {Case{640, 480, {320, 240}, 12}, Case{640, 480, {100, 400}, 12},
+                       Case{640, 480, {0, 0}, 12}, Case{640, 480, {639, 479}, 3},
+                       Case{203, 151, {5, 140}, 12}, Case{203, 151, {101, 75}, 0}}) {
+    const hal::Image image = testing::render(testing::Texture(11), c.width, c.height);
+    RetinaConfig config;  // 4 x 16 x 16
+    config.coarsest_covers_field = true;
+    Retina retina(config, c.apron, c.width, c.height);
+    ASSERT_EQ(retina.build(image, c.fixation), hal::Status::kOk);
+    const std::string what = std::to_string(c.width) + "x" + std::to_string(c.height) +
+                             " fixation " + std::to_string(c.fixation.x) + "," +
+                             std::to_string(c.fixation.y) + " apron " + std::to_string(c.apron);
+    for (int k = 0; k < retina.levels(); ++k) {
+      const RetinaLevelView level = retina.level(k);
+      expect_level_is_block_means(level, image, (what + " level " + std::to_string(k)).c_str());
+    }
+    const RetinaLevelView coarse = retina.level(3);
+    EXPECT_LE(coarse.origin_x_px, 0) << what;
+    EXPECT_GE(coarse.origin_x_px + 16 * coarse.scale_px, c.width) << what;
+    EXPECT_LE(coarse.origin_y_px, 0) << what;
+    EXPECT_GE(coarse.origin_y_px + 16 * coarse.scale_px, c.height) << what;
+  }
+}
+
+// A level may lie wholly beyond an edge (fixation far outside): every sample is an edge pixel's
+// block mean and nothing of the image is inside.
+TEST(Retina, LevelWhollyOutsideTheImageReplicatesTheEdge) {
+  const hal::Image image = testing::render(testing::Texture(13), 120, 90);
+  RetinaConfig config;
+  config.levels = 2;
+  Retina retina(config, 4, 120, 90);
+  for (const PixelPoint f : {PixelPoint{-200, 45}, PixelPoint{60, 400}, PixelPoint{500, -300}}) {
+    ASSERT_EQ(retina.build(image, f), hal::Status::kOk);
+    for (int k = 0; k < retina.levels(); ++k) {
+      expect_level_is_block_means(retina.level(k), image, "outside");
+    }
+    EXPECT_FLOAT_EQ(retina.level(0).fraction_inside, 0.0f);
+  }
+}
+
+// An rgb8 image with independent textures in its three channels.
+hal::Image colour_image(int width, int height) {
+  const hal::Image r = testing::render(testing::Texture(21, 60.0), width, height);
+  const hal::Image g = testing::render(testing::Texture(22, 60.0), width, height);
+  const hal::Image b = testing::render(testing::Texture(23, 60.0), width, height);
+  hal::Image image(width, height, hal::PixelFormat::kRgb8);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      std::uint8_t* p = image.row(y) + 3 * x;
+      p[0] = r.row(y)[x];
+      p[1] = g.row(y)[x];
+      p[2] = b.row(y)[x];
+    }
+  }
+  return image;
+}
+
+// Colour frames against converting the whole frame to grey with hal::luma_bt601 first and
+// building the retina from that. The colour path converts each pixel it reads with the same
+// function, so the sums are the same integers: tolerance 0.
+TEST(Retina, ColourFramesGiveTheLevelsOfTheirGreyConversion) {
+  const hal::Image colour = colour_image(320, 240);
+  hal::Image grey(320, 240, hal::PixelFormat::kGrey8);
+  for (int y = 0; y < 240; ++y) {
+    for (int x = 0; x < 320; ++x) {
+      const std::uint8_t* p = colour.row(y) + 3 * x;
+      grey.row(y)[x] = hal::luma_bt601(p[0], p[1], p[2]);
+    }
+  }
+  for (const bool covers : {false, true}) {
+    RetinaConfig config;
+    config.coarsest_covers_field = covers;
+    Retina from_colour(config, 12, 320, 240);
+    Retina from_grey(config, 12, 320, 240);
+    for (const PixelPoint f : {PixelPoint{160, 120}, PixelPoint{7, 230}, PixelPoint{330, -4}}) {
+      ASSERT_EQ(from_colour.build(colour, f), hal::Status::kOk);
+      ASSERT_EQ(from_grey.build(grey, f), hal::Status::kOk);
+      for (int k = 0; k < config.levels; ++k) {
+        const RetinaLevelView c = from_colour.level(k);
+        const RetinaLevelView g = from_grey.level(k);
+        ASSERT_EQ(c.scale_px, g.scale_px);
+        EXPECT_EQ(c.fraction_inside, g.fraction_inside);
+        for (int y = -c.apron; y < c.height + c.apron; ++y) {
+          for (int x = -c.apron; x < c.width + c.apron; ++x) {
+            ASSERT_EQ(c.at(x, y), g.at(x, y))
+                << "covers " << covers << " level " << k << " at " << x << "," << y;
+          }
+        }
+      }
+    }
+  }
 }
 
 TEST(Retina, CoordinateMappingRoundTrips) {

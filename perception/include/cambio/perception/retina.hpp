@@ -56,7 +56,10 @@ struct RetinaLevelView {
 /// corner point. Border policy: samples whose blocks reach outside the image use the nearest
 /// edge pixel (replicate), and each level reports the fraction of real data it holds.
 ///
-/// Levels are built straight from the source (block sums, no full-resolution intermediate).
+/// Levels are built straight from the source (block sums, no full-resolution intermediate), each
+/// source pixel a level covers read once: parts of a level beyond the image (its apron, or all
+/// around for a field-covering level) reuse the edge rows' and columns' sums instead of reading
+/// the edge pixels again, so a field-covering level is one streaming pass over the image.
 class Retina {
  public:
   /// Allocates every level. `apron_px` is the largest kernel half-width that will be applied;
@@ -66,7 +69,9 @@ class Retina {
 
   static constexpr int kMaxLevels = 8;
 
-  /// Builds all levels from a grey8 or rgb8 image (rgb converted with Rec. 601 luma weights).
+  /// Builds all levels from a grey8 or rgb8 image. An rgb8 pixel is converted with
+  /// hal::luma_bt601 where a level reads it, so the levels equal those of the image converted to
+  /// grey8 first, without converting whole rows.
   /// Real-time safe: no allocation. kRejected for an empty image.
   hal::Status build(const hal::Image& image, PixelPoint fixation) noexcept;
 
@@ -103,11 +108,10 @@ class Retina {
   int max_scale_ = 1;
   PixelPoint fixation_;
   std::vector<Level> levels_;
-  std::vector<std::uint32_t> column_sums_;  ///< Per source column, summed over a block's rows.
-  /// The same for blocks of at most 16 rows (16 x 255 < 2^16): twice the lanes per vector add.
+  /// Per source column read, summed over a block's rows; 16 bits while 257 x 255 < 2^16
+  /// (twice the lanes per vector add), 32 bits only for blocks of more rows.
   std::vector<std::uint16_t> column_sums16_;
-  std::vector<std::int32_t> column_index_;  ///< Clamped source columns (scratch, border case).
-  std::vector<std::uint8_t> luma_row_;      ///< One rgb8 row converted to grey (scratch).
+  std::vector<std::uint32_t> column_sums_;
 };
 
 }  // namespace cambio::perception

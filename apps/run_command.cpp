@@ -104,6 +104,9 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                                         {"error_frames", c.error_frames},
                                         {"boot_ups", c.boot_ups}};
   }
+  json["wall_time_shares"] = runtime::wall_time_shares_json(
+      runtime::wall_time_shares(result.loops.data(), result.loops.size(), result.wall_s),
+      result.wall_s, !result.realtime);
   json["peak_rss_kib"] = peak_rss_kib();
   json["allocation_gate"] = {{"passed", over_budget.empty()},
                              {"loops_that_allocated", over_budget}};
@@ -238,6 +241,9 @@ int run_run_command(std::span<const std::string> args) {
   progress.finish(result.simulated_s, result.wall_s);
 
   std::cout << runtime::format_statistics_table(result.loops.data(), result.loops.size());
+  std::cout << runtime::format_wall_time_shares(
+      runtime::wall_time_shares(result.loops.data(), result.loops.size(), result.wall_s),
+      result.wall_s, !result.realtime);
   std::cout << "camera frames grabbed: " << result.camera_frames << " (" << result.stereo_pairs
             << " stereo pairs, " << result.mismatched_stereo_pairs
             << " refused for mismatched stamps)"

@@ -232,6 +232,13 @@ TEST(CambioCli, TheMainJobVergesOnTheTexturedSphere) {
                                           "trace", "camera", "perception", "physics"}));
   EXPECT_EQ(summary.at("allocation_gate").at("passed"), true);
   EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
+  // The share of wall time each loop took: every loop named, the lockstep shares and what the
+  // loops leave adding up to the whole run.
+  const auto& shares = summary.at("wall_time_shares");
+  double total = shares.at("outside_loops").get<double>();
+  for (const auto& name : loops) total += shares.at("loops").at(name).get<double>();
+  EXPECT_NEAR(total, 1.0, 1e-6) << shares.dump();
+  EXPECT_TRUE(contains(result.output, "wall time ")) << result.output;
 }
 
 // A goal the run cannot meet: the run completes, says which goal failed, and exits 1.

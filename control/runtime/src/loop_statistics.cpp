@@ -82,6 +82,68 @@ std::string format_statistics_table(const LoopStatistics* stats, std::size_t cou
   return out;
 }
 
+std::vector<WallTimeShare> wall_time_shares(const LoopStatistics* stats, std::size_t count,
+                                            double wall_s) {
+  std::vector<WallTimeShare> shares;
+  shares.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double busy_s = static_cast<double>(stats[i].execution_time.sum_ns()) * 1e-9;
+    shares.push_back({stats[i].name, busy_s, wall_s > 0.0 ? busy_s / wall_s : 0.0});
+  }
+  std::stable_sort(
+      shares.begin(), shares.end(),
+      [](const WallTimeShare& a, const WallTimeShare& b) { return a.busy_s > b.busy_s; });
+  return shares;
+}
+
+namespace {
+double busy_sum_s(const std::vector<WallTimeShare>& shares) {
+  double sum = 0.0;
+  for (const auto& share : shares) sum += share.busy_s;
+  return sum;
+}
+}  // namespace
+
+std::string format_wall_time_shares(const std::vector<WallTimeShare>& shares, double wall_s,
+                                    bool sequential) {
+  std::string out;
+  char line[160];
+  std::snprintf(line, sizeof line, "wall time %.3f s, %s:\n", wall_s,
+                sequential ? "the loops one after another (lockstep)"
+                           : "each loop on its own thread (shares of one core)");
+  out += line;
+  int name_width = 12;
+  for (const auto& share : shares) {
+    name_width =
+        std::max(name_width, static_cast<int>(std::min<std::size_t>(share.loop.size(), 64)));
+  }
+  for (const auto& share : shares) {
+    std::snprintf(line, sizeof line, "  %-*.*s %6.1f %%  %8.3f s\n", name_width, name_width,
+                  share.loop.c_str(), 100.0 * share.share, share.busy_s);
+    out += line;
+  }
+  if (sequential && wall_s > 0.0) {
+    const double outside_s = std::max(0.0, wall_s - busy_sum_s(shares));
+    std::snprintf(line, sizeof line, "  %-*s %6.1f %%  %8.3f s\n", name_width, "outside loops",
+                  100.0 * outside_s / wall_s, outside_s);
+    out += line;
+  }
+  return out;
+}
+
+nlohmann::ordered_json wall_time_shares_json(const std::vector<WallTimeShare>& shares,
+                                             double wall_s, bool sequential) {
+  nlohmann::ordered_json json;
+  json["wall_s"] = wall_s;
+  json["loops"] = nlohmann::ordered_json::object();
+  for (const auto& share : shares) json["loops"][share.loop] = share.share;
+  json["outside_loops"] =
+      sequential && wall_s > 0.0
+          ? nlohmann::ordered_json(std::max(0.0, wall_s - busy_sum_s(shares)) / wall_s)
+          : nlohmann::ordered_json(nullptr);
+  return json;
+}
+
 nlohmann::ordered_json statistics_json(const LoopStatistics& s) {
   nlohmann::ordered_json json;
   json["name"] = s.name;

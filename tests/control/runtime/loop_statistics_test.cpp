@@ -1,5 +1,9 @@
 #include "cambio/runtime/loop_statistics.hpp"
 
+#include <initializer_list>
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 namespace cambio::runtime {
@@ -46,6 +50,45 @@ TEST(LoopStatistics, JsonStaysValidWhateverTheNamesAndMessages) {
   const nlohmann::json parsed = nlohmann::json::parse(statistics_json(stats).dump());
   EXPECT_EQ(parsed.at("name"), stats.name);
   EXPECT_EQ(parsed.at("fault_message"), stats.fault_message);
+}
+
+LoopStatistics busy_loop(const std::string& name, std::initializer_list<std::int64_t> updates_ns) {
+  LoopStatistics stats;
+  stats.name = name;
+  for (const std::int64_t ns : updates_ns) stats.execution_time.record_ns(ns);
+  stats.cycles = updates_ns.size();
+  return stats;
+}
+
+TEST(WallTimeShares, EachLoopsBusyTimeOverTheWallTimeLargestFirst) {
+  const std::vector<LoopStatistics> loops = {busy_loop("control", {100'000'000, 100'000'000}),
+                                             busy_loop("camera", {500'000'000}),
+                                             busy_loop("idle", {})};
+  const auto shares = wall_time_shares(loops.data(), loops.size(), 1.0);
+  ASSERT_EQ(shares.size(), 3U);
+  EXPECT_EQ(shares[0].loop, "camera");
+  EXPECT_DOUBLE_EQ(shares[0].busy_s, 0.5);
+  EXPECT_DOUBLE_EQ(shares[0].share, 0.5);
+  EXPECT_EQ(shares[1].loop, "control");
+  EXPECT_DOUBLE_EQ(shares[1].share, 0.2);
+  EXPECT_EQ(shares[2].loop, "idle");
+  EXPECT_DOUBLE_EQ(shares[2].share, 0.0);
+  // Lockstep: what the loops leave is reported; realtime: loops overlap, so it is not.
+  const nlohmann::json lockstep = wall_time_shares_json(shares, 1.0, true);
+  EXPECT_NEAR(lockstep.at("outside_loops").get<double>(), 0.3, 1e-12);
+  EXPECT_DOUBLE_EQ(lockstep.at("loops").at("camera").get<double>(), 0.5);
+  EXPECT_TRUE(wall_time_shares_json(shares, 1.0, false).at("outside_loops").is_null());
+  const std::string text = format_wall_time_shares(shares, 1.0, true);
+  EXPECT_NE(text.find("camera"), std::string::npos) << text;
+  EXPECT_NE(text.find("50.0 %"), std::string::npos) << text;
+  EXPECT_NE(text.find("outside loops"), std::string::npos) << text;
+}
+
+TEST(WallTimeShares, AZeroWallTimeGivesZeroSharesNotInfinities) {
+  const std::vector<LoopStatistics> loops = {busy_loop("camera", {1'000})};
+  const auto shares = wall_time_shares(loops.data(), loops.size(), 0.0);
+  EXPECT_EQ(shares[0].share, 0.0);
+  EXPECT_TRUE(wall_time_shares_json(shares, 0.0, true).at("outside_loops").is_null());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,8 @@ class LatencyHistogram {
   std::int64_t max_ns() const { return max_ns_; }
   std::int64_t min_ns() const { return count_ == 0 ? 0 : min_ns_; }
   double mean_ns() const { return count_ == 0 ? 0.0 : static_cast<double>(sum_ns_) / count_; }
+  /// The sum of every recorded sample (negative samples count as 0).
+  std::int64_t sum_ns() const { return sum_ns_; }
   /// The smallest latency (µs, bucket upper edge) below which `fraction` of samples fall;
   /// samples past 10 ms report the maximum seen.
   double percentile_us(double fraction) const;
@@ -58,6 +61,27 @@ struct LoopStatistics {
 
 /// True unless a loop that did not declare allocations allocated in update().
 bool passes_allocation_gate(const LoopStatistics& stats);
+
+/// How much of a run's wall time one loop spent in update(): the sum of its execution times.
+struct WallTimeShare {
+  std::string loop;
+  double busy_s = 0.0;
+  double share = 0.0;  ///< busy_s / the run's wall time.
+};
+
+/// Each loop's busy time as a share of `wall_s`, largest first, so a run names its bottleneck
+/// without a profiler. On the lockstep executor the loops run one after another on one thread
+/// and the shares plus "outside the loops" make 1; on the realtime executor they run on threads
+/// of their own and may add up to more than 1 (one core is 1).
+std::vector<WallTimeShare> wall_time_shares(const LoopStatistics* stats, std::size_t count,
+                                            double wall_s);
+/// The shares as lines, "camera  61.2 %  1.224 s", then what the loops leave of the wall time
+/// when `sequential` (lockstep).
+std::string format_wall_time_shares(const std::vector<WallTimeShare>& shares, double wall_s,
+                                    bool sequential);
+/// {"loops": {name: share, ...}, "outside_loops": share or null when not sequential, "wall_s"}.
+nlohmann::ordered_json wall_time_shares_json(const std::vector<WallTimeShare>& shares,
+                                             double wall_s, bool sequential);
 
 /// Human-readable table of several loops' statistics.
 std::string format_statistics_table(const LoopStatistics* stats, std::size_t count);

@@ -274,15 +274,19 @@ class Builder {
         << "    <light name=\"fill\" directional=\"true\" pos=\"-1 1 4\" dir=\"0.5 -0.3 -1\" "
            "diffuse=\"0.25 0.25 0.27\" specular=\"0 0 0\" castshadow=\"false\"/>\n";
     if (scene_.floor) {
-      // Drawn out to the sky planes (it collides as an infinite half-space regardless).
-      xml << "    <geom name=\"floor\" type=\"plane\" size=\"25 25 0.05\" material=\"floor\" "
+      // Drawn out to the sky planes (it collides as an infinite half-space regardless). The third
+      // size is MuJoCo's rendering grid spacing: every light is directional, so the lighting is
+      // the same across the plane and one quad per 25 m does; the 5 cm grid it had drew 200 x 200
+      // quads per view, which cost llvmpipe more than the rest of the scene together.
+      xml << "    <geom name=\"floor\" type=\"plane\" size=\"25 25 25\" material=\"floor\" "
              "group=\""
           << kSceneGeomGroup << "\"/>\n";
     }
     // The eyes' sky: five planes 25 m out, facing in; emission 0.4 plus the headlight (0.25
     // ambient, 0.35 diffuse) shows them in about the sky's colour. MuJoCo's skybox costs llvmpipe
     // about 10 ms per 640x480 frame (several times the rest of the scene), so only
-    // third-person views draw it; they hide these planes (group kEyeSkyGeomGroup).
+    // third-person views draw it; they hide these planes (group kEyeSkyGeomGroup). One quad per
+    // plane, as for the floor.
     struct SkyPlane {
       const char* name;
       Eigen::Vector3d position;
@@ -308,7 +312,8 @@ class Builder {
     };
     for (const auto& plane : planes) {
       xml << "    <geom name=\"" << plane.name << "\" type=\"plane\" size=\"" << num(d) << " "
-          << num(d) << " 1\" pos=\"" << vec(plane.position) << "\" quat=\"" << quat(plane.rotation)
+          << num(d) << " " << num(d) << "\" pos=\"" << vec(plane.position) << "\" quat=\""
+          << quat(plane.rotation)
           << "\" material=\"eye_sky\" contype=\"0\" conaffinity=\"0\" group=\"" << kEyeSkyGeomGroup
           << "\"/>\n";
     }

@@ -9,6 +9,7 @@
 
 #include "cambio/config/config_error.hpp"
 #include "cambio/sim/mujoco_error.hpp"
+#include "view_culling.hpp"
 
 namespace cambio::sim {
 
@@ -140,6 +141,9 @@ bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOpti
     camera.fixedcamid = camera_id;
     apply_view(view);
     mjv_updateScene(model, data_, option_.get(), nullptr, &camera, mjCAT_ALL, scene_.get());
+    if (!view.shadows && !view.reflections) {
+      cull_and_order_for_view(scene_.get(), static_cast<double>(width_px) / height_px);
+    }
     const mjrRect viewport{0, 0, width_px, height_px};
     mjr_render(viewport, scene_.get(), context_.get());
     mjr_readPixels(rgb, depth, viewport, context_.get());

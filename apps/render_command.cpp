@@ -197,6 +197,7 @@ int run_render_command(std::span<const std::string> args) {
     view.shadows = !parser.flag_set("no-shadows");
     view.show_head = true;
     view.skybox = true;
+    view.trilinear_textures = true;
     hal::Image overview;
     backend->ground_truth().render(sim::kOverviewCameraName, kOverviewWidthPx, kOverviewHeightPx,
                                    view, overview, nullptr);

@@ -47,6 +47,21 @@ void check_framebuffer_limits(const World& world, int offscreen_width_px, int of
   throw config::ConfigError(std::move(issues));
 }
 
+// The projection of `window` of the camera's image: MuJoCo's frustum for the whole image (its
+// near-plane extents from fovy, centred) cut down to the window's pixels. mjr_render sets the
+// horizontal extent from the viewport's aspect, which is the window's own.
+void narrow_frustum(mjvGLCamera& camera, const ImageWindow& window) {
+  const float pixel =
+      (camera.frustum_top - camera.frustum_bottom) / static_cast<float>(window.full_height_px);
+  const float full_left = camera.frustum_center - 0.5F * pixel * window.full_width_px;
+  const float full_top = camera.frustum_top;
+  const float span_x = static_cast<float>(window.width_px * window.downscale);
+  const float span_y = static_cast<float>(window.height_px * window.downscale);
+  camera.frustum_top = full_top - pixel * static_cast<float>(window.y0_px);
+  camera.frustum_bottom = full_top - pixel * (static_cast<float>(window.y0_px) + span_y);
+  camera.frustum_center = full_left + pixel * (static_cast<float>(window.x0_px) + 0.5F * span_x);
+}
+
 }  // namespace
 
 Renderer::Lease::Lease(Renderer& renderer, Mode mode) noexcept : renderer_(renderer) {
@@ -128,10 +143,30 @@ void Renderer::apply_view(const ViewOptions& view) {
   scene_->flags[mjRND_SHADOW] = view.shadows ? 1 : 0;
   scene_->flags[mjRND_REFLECTION] = view.reflections ? 1 : 0;
   scene_->flags[mjRND_SKYBOX] = view.skybox ? 1 : 0;
+  set_texture_filter(view.trilinear_textures);
+}
+
+void Renderer::set_texture_filter(bool trilinear) {
+  if (trilinear == textures_trilinear_) return;
+  const GLint filter = trilinear ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_NEAREST;
+  for (int i = 0; i < context_->ntexture; ++i) {
+    const GLenum target =
+        context_->textureType[i] == mjTEXTURE_2D ? GL_TEXTURE_2D : GL_TEXTURE_CUBE_MAP;
+    glBindTexture(target, context_->texture[i]);
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+  }
+  textures_trilinear_ = trilinear;
 }
 
 bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOptions& view,
                       std::uint8_t* rgb, float* depth) noexcept {
+  return render(camera_id, ImageWindow::whole(width_px, height_px), view, rgb, depth);
+}
+
+bool Renderer::render(int camera_id, const ImageWindow& window, const ViewOptions& view,
+                      std::uint8_t* rgb, float* depth) noexcept {
+  const int width_px = window.width_px;
+  const int height_px = window.height_px;
   try {
     egl_.make_current();
     const mjModel* model = world_.model();
@@ -141,6 +176,11 @@ bool Renderer::render(int camera_id, int width_px, int height_px, const ViewOpti
     camera.fixedcamid = camera_id;
     apply_view(view);
     mjv_updateScene(model, data_, option_.get(), nullptr, &camera, mjCAT_ALL, scene_.get());
+    if (!window.is_whole()) {
+      // Mono rendering draws through the average of the scene's two GL cameras: narrow both.
+      narrow_frustum(scene_->camera[0], window);
+      narrow_frustum(scene_->camera[1], window);
+    }
     if (!view.shadows && !view.reflections) {
       cull_and_order_for_view(scene_.get(), static_cast<double>(width_px) / height_px);
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <stdexcept>
 
 #include "cambio/canopen/socketcan_backend.hpp"
@@ -13,6 +14,7 @@
 #include "cambio/runtime/realtime_executor.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
+#include "foveation_check.hpp"
 
 namespace cambio::app {
 namespace {
@@ -148,6 +150,13 @@ void MainJob::build_loops() {
                                      : experiment_.perception_path;
     const perception::SsmConfig ssm =
         ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
+    for (const std::size_t eye : {stereo->left, stereo->right}) {
+      const config::CameraConfig* camera = rig.find_camera(hardware_.cameras[eye].name);
+      if (camera == nullptr) continue;
+      for (const std::string& warning : foveation_warnings(*camera, ssm)) {
+        std::cerr << "cambio: warning: " << warning << "\n";
+      }
+    }
     perception_loop_ = std::make_unique<perception::SsmServer>(
         "perception", camera_loop_->stereo_frames(), hardware_.cameras[stereo->left],
         hardware_.cameras[stereo->right], ssm);
@@ -299,7 +308,7 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   return result;
 }
 
-std::vector<const hal::Image*> MainJob::last_frames() {
+std::vector<hal::Image> MainJob::last_frames() {
   std::vector<const hal::Image*> frames(cameras_.size(), nullptr);
   if (camera_loop_->has_stereo()) {
     // The loops have stopped: this thread may take the stereo channel's reader side.
@@ -315,7 +324,25 @@ std::vector<const hal::Image*> MainJob::last_frames() {
     channel.acquire();
     frames[i] = &channel.front();
   }
-  return frames;
+  std::vector<hal::Image> images;
+  images.reserve(frames.size());
+  const auto sim = backends_.find("sim");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    images.push_back(*frames[i]);
+    const hal::CameraInfo& camera = hardware_.cameras[i];
+    const config::CameraConfig* config = experiment_.rig.find_camera(camera.name);
+    if (frames[i]->sequence == 0 || camera.backend != "sim" || sim == backends_.end() ||
+        config == nullptr || !config->sim_foveation.enabled()) {
+      continue;
+    }
+    hal::Image whole;
+    static_cast<sim::SimBackend&>(*sim->second)
+        .ground_truth()
+        .render(camera.name, 0, 0, sim::ViewOptions{}, whole, nullptr);
+    whole.sequence = frames[i]->sequence;
+    images.back() = std::move(whole);
+  }
+  return images;
 }
 
 }  // namespace cambio::app

@@ -81,8 +81,9 @@ class MainJob {
                     const std::function<void(double, double)>& progress);
 
   /// The newest frame of each camera (rig order), for --out, after run(); sequence 0 if none
-  /// arrived.
-  std::vector<const hal::Image*> last_frames();
+  /// arrived. A foveated sim eye (config::SimFoveationConfig) is rendered whole instead, at the
+  /// end of the run: images for people are full frames.
+  std::vector<hal::Image> last_frames();
   const std::vector<hal::CameraInfo>& cameras() const { return hardware_.cameras; }
   /// What the run recorded at the control rate with the simulator's ground truth (trace.csv,
   /// metrics, plots); null when the rig has no sim backend or no stereo pair. Read after run().

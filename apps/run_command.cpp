@@ -303,8 +303,8 @@ int run_run_command(std::span<const std::string> args) {
   if (out) {
     const auto frames = job->last_frames();
     for (std::size_t i = 0; i < frames.size(); ++i) {
-      if (frames[i]->sequence == 0) continue;
-      out->stage(job->cameras()[i].name + ".png", encode_png(*frames[i]));
+      if (frames[i].sequence == 0) continue;
+      out->stage(job->cameras()[i].name + ".png", encode_png(frames[i]));
     }
     if (const Trace* trace = job->trace()) {
       stage_trace(*out, *trace);

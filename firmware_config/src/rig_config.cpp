@@ -15,6 +15,14 @@ const Item* find_named(const std::vector<Item>& items, const std::string& name) 
 
 }  // namespace
 
+bool SimFoveationConfig::fits(int width_px, int height_px) const {
+  if (periphery_downscale == 1) return true;
+  const int s = periphery_downscale;
+  const int f = fovea_px;
+  return s >= 1 && width_px % s == 0 && height_px % s == 0 && f >= 1 &&
+         f <= std::min(width_px, height_px) && (width_px - f) % 2 == 0 && (height_px - f) % 2 == 0;
+}
+
 const JointConfig* RigConfig::find_joint(const std::string& joint_name) const {
   return find_named(joints, joint_name);
 }

@@ -228,6 +228,33 @@ JointGroupConfig read_group(const std::string& name, MapReader& r) {
   return group;
 }
 
+// The fovea is centred on whole pixels and the periphery's pixels tile the image exactly, so the
+// composed frame has no seam or half-pixel shift.
+void read_sim_foveation(MapReader& r, CameraConfig& camera, bool size_clean) {
+  SimFoveationConfig& foveation = camera.sim_foveation;
+  const CleanRead read(r);
+  foveation.periphery_downscale =
+      static_cast<int>(r.integer("periphery_downscale", Range::closed(1, 16)));
+  foveation.fovea_px = static_cast<int>(r.integer("fovea_px", Range::closed(8, 4096)));
+  r.finish();
+  if (!size_clean || !read.clean()) return;
+  const int s = foveation.periphery_downscale;
+  const int w = camera.width_px;
+  const int h = camera.height_px;
+  if (w % s != 0 || h % s != 0) {
+    r.error("periphery_downscale", "expected a divisor of the " + std::to_string(w) + "x" +
+                                       std::to_string(h) + " image's width and height, found " +
+                                       std::to_string(s));
+  }
+  const int f = foveation.fovea_px;
+  if (f > std::min(w, h) || (w - f) % 2 != 0 || (h - f) % 2 != 0) {
+    r.error("fovea_px", "expected at most " + std::to_string(std::min(w, h)) +
+                            " px, with the same parity as the image's width and height (" +
+                            std::to_string(w) + "x" + std::to_string(h) +
+                            ") so that it is centred on whole pixels, found " + std::to_string(f));
+  }
+}
+
 CameraConfig read_camera(const std::string& name, MapReader& r) {
   CameraConfig camera;
   camera.name = name;
@@ -294,6 +321,9 @@ CameraConfig read_camera(const std::string& name, MapReader& r) {
                       ? PixelFormatConfig::kGrey8
                       : PixelFormatConfig::kRgb8;
   camera.image_noise_std = r.number_or("image_noise_std", 0.0, Range::non_negative());
+  if (auto foveation = r.optional_map("sim_foveation")) {
+    read_sim_foveation(*foveation, camera, size_clean);
+  }
   r.finish();
   return camera;
 }

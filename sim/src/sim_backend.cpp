@@ -140,7 +140,7 @@ std::unique_ptr<hal::Camera> SimBackend::make_camera(std::string_view camera_nam
   const std::uint64_t stream = 0x10000 + camera_streams_++;
   auto made = std::make_unique<SimCamera>(*camera, world_->camera_id(camera->name), renderer(),
                                           *camera_frames_, config->image_noise_std,
-                                          seed_ * 0x100000001B3ULL + stream);
+                                          seed_ * 0x100000001B3ULL + stream, config->sim_foveation);
   made_cameras_.insert(camera->name);
   return made;
 }

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "cambio/config/rig_config.hpp"
 #include "cambio/hal/camera.hpp"
 #include "cambio/sim/image_noise.hpp"
 #include "cambio/sim/renderer.hpp"
@@ -15,10 +16,13 @@ namespace cambio::sim {
 /// under a lease on the world's renderer, taken without waiting, then flips, converts (grey8 or
 /// rgb8) and adds the configured noise. Both eyes of a stereo pair grabbed in one camera-loop
 /// cycle see the same world snapshot, and every image is stamped with that snapshot's time.
+/// Optionally foveated (config::SimFoveationConfig).
 class SimCamera final : public hal::Camera {
  public:
+  /// `foveation` (when enabled) renders a low-resolution field and a full-resolution fovea
+  /// (compose_foveated) instead of the whole frame.
   SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer, CameraFrames& frames,
-            double noise_std, std::uint64_t seed);
+            double noise_std, std::uint64_t seed, config::SimFoveationConfig foveation = {});
 
   const hal::CameraInfo& info() const override { return info_; }
   /// Real-time safe (no allocation, no lock, no wait); takes the render's milliseconds of CPU.
@@ -36,7 +40,11 @@ class SimCamera final : public hal::Camera {
   Renderer& renderer_;
   CameraFrames& frames_;
   ImageNoise noise_;
-  std::vector<std::uint8_t> rgb_;
+  bool render_views() noexcept;
+
+  config::SimFoveationConfig foveation_;
+  std::vector<std::uint8_t> rgb_;    ///< The whole frame, or the periphery when foveated.
+  std::vector<std::uint8_t> fovea_;  ///< The fovea's window when foveated.
   std::optional<std::uint64_t> rendered_step_;  ///< Step of the snapshot last rendered.
   std::uint64_t sequence_ = 0;
 };

@@ -101,7 +101,7 @@ TEST(Override, ANewMapIsCheckedLikeTheFile) {
             "--set: cameras.eye.bogus: unknown key \"bogus\"; expected one of "
             "backend, focal_px, focal_x_px, focal_y_px, format, "
             "height_px, image_noise_std, origin_rpy_deg, origin_rpy_rad, "
-            "origin_xyz_m, parent, principal_point_px, width_px");
+            "origin_xyz_m, parent, principal_point_px, sim_foveation, width_px");
 }
 
 TEST(Override, ThroughAScalarIsRefused) {

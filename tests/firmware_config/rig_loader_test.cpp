@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -138,6 +139,46 @@ TEST(BadRig, WrongTypeNamesExpectedAndFound) {
       "test.yaml:11:25: joints.pan.max_velocity_rad_s: expected a number > 0, found \"fast\"");
 }
 
+// Line 32 (principal_point_px) carries the foveation too: its map is then the camera's last key.
+std::string foveated(const std::string& map) {
+  return small_rig_with(32, "    principal_point_px: [319.5, 239.5]\n    sim_foveation: " + map);
+}
+
+TEST(SimFoveation, LoadsWhenTheWindowsTileTheImage) {
+  const RigConfig rig =
+      load_rig_from_string(foveated("{periphery_downscale: 4, fovea_px: 160}"), "test.yaml");
+  const SimFoveationConfig& foveation = rig.cameras.at(0).sim_foveation;
+  EXPECT_TRUE(foveation.enabled());
+  EXPECT_EQ(foveation.periphery_downscale, 4);
+  EXPECT_EQ(foveation.fovea_px, 160);
+  EXPECT_FALSE(
+      load_rig_from_string(small_rig(), "test.yaml").cameras.at(0).sim_foveation.enabled());
+}
+
+TEST(SimFoveation, ADownscaleThatDoesNotDivideTheImageIsRefused) {
+  expect_single_issue(issues_of(foveated("{periphery_downscale: 7, fovea_px: 160}")), 33, 42,
+                      "cameras.eye.sim_foveation.periphery_downscale",
+                      "expected a divisor of the 640x480 image's width and height, found 7");
+}
+
+TEST(SimFoveation, AFoveaLargerThanTheImageOrOffTheirParityIsRefused) {
+  expect_single_issue(issues_of(foveated("{periphery_downscale: 4, fovea_px: 481}")), 33, 55,
+                      "cameras.eye.sim_foveation.fovea_px", "expected at most 480 px");
+  expect_single_issue(issues_of(foveated("{periphery_downscale: 4, fovea_px: 161}")), 33, 55,
+                      "cameras.eye.sim_foveation.fovea_px", "centred on whole pixels, found 161");
+}
+
+TEST(SimFoveation, MissingAndUnknownKeysAreNamed) {
+  const auto issues = issues_of(foveated("{periphery_downscale: 4, fovea: 160}"));
+  ASSERT_EQ(issues.size(), 2U) << describe(issues);
+  EXPECT_NE(describe(issues).find("cameras.eye.sim_foveation.fovea_px: missing key"),
+            std::string::npos)
+      << describe(issues);
+  EXPECT_NE(describe(issues).find("unknown key \"fovea\"; expected one of fovea_px"),
+            std::string::npos)
+      << describe(issues);
+}
+
 TEST(BadRig, WrongTypeListForNumber) {
   expect_single_issue(issues_of(small_rig_with(29, "    width_px: [640]")), 29, 15,
                       "cameras.eye.width_px",
@@ -256,26 +297,37 @@ TEST(BadRig, CameraParentUnknown) {
                       "cameras.eye.parent", "expected \"base\" or a joint (base, pan, tilt)");
 }
 
+// The 1-based line of the shipped rig that reads `text` (0 if none), so that the tests below
+// follow edits elsewhere in the file.
+int line_of(const std::vector<std::string>& lines, const std::string& text) {
+  const auto found = std::find(lines.begin(), lines.end(), text);
+  return found == lines.end() ? 0 : static_cast<int>(found - lines.begin()) + 1;
+}
+
 TEST(BadRig, StereoCameraUnknown) {
   const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
-  ASSERT_EQ(lines.at(241), "  left_camera: left_eye");
-  const auto issues = issues_of(test::patched(lines, 242, "  left_camera: left_ey"));
+  const int line = line_of(lines, "  left_camera: left_eye");
+  ASSERT_GT(line, 0);
+  const auto issues = issues_of(test::patched(lines, line, "  left_camera: left_ey"));
   ASSERT_EQ(issues.size(), 1u) << describe(issues);
   EXPECT_EQ(issues[0].to_string(),
-            "test.yaml:242:16: stereo.left_camera: expected a camera (left_eye, right_eye), found "
-            "\"left_ey\"; did you mean \"left_eye\"?");
+            "test.yaml:" + std::to_string(line) +
+                ":16: stereo.left_camera: expected a camera (left_eye, right_eye), found "
+                "\"left_ey\"; did you mean \"left_eye\"?");
 }
 
 TEST(BadRig, StereoBaselineDisagreesWithTheEyeJoints) {
   const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
-  ASSERT_EQ(lines.at(243), "  baseline_m: 0.12");
-  const auto issues = issues_of(test::patched(lines, 244, "  baseline_m: 0.10"));
+  const int line = line_of(lines, "  baseline_m: 0.12");
+  ASSERT_GT(line, 0);
+  const auto issues = issues_of(test::patched(lines, line, "  baseline_m: 0.10"));
   ASSERT_EQ(issues.size(), 1u) << describe(issues);
   EXPECT_EQ(issues[0].to_string(),
-            "test.yaml:244:15: stereo.baseline_m: expected 0.12 (the distance in y between the "
-            "origins of joints left_eye_pan and right_eye_pan), found 0.1");
+            "test.yaml:" + std::to_string(line) +
+                ":15: stereo.baseline_m: expected 0.12 (the distance in y between the "
+                "origins of joints left_eye_pan and right_eye_pan), found 0.1");
   // Within 1e-6 m is agreement.
-  EXPECT_NO_THROW(load_rig_from_string(test::patched(lines, 244, "  baseline_m: 0.1200005"), "t"));
+  EXPECT_NO_THROW(load_rig_from_string(test::patched(lines, line, "  baseline_m: 0.1200005"), "t"));
 }
 
 TEST(BadRig, SocketcanGroupWithoutABus) {

@@ -26,9 +26,11 @@ inline config::SceneConfig load_shipped_scene(const std::string& name) {
 
 /// Shrinks every camera to 160x120 with the same 60 deg horizontal field of view (focal from
 /// 80 / tan(30 deg)), keeping the principal point centred: small frames keep tests quick, and
-/// the geometry tests cover the full size.
+/// the geometry tests cover the full size. Whole frames: the shipped foveation's 160 px fovea
+/// does not fit.
 inline void use_small_cameras(config::RigConfig& rig) {
   for (auto& camera : rig.cameras) {
+    camera.sim_foveation = {};
     camera.width_px = 160;
     camera.height_px = 120;
     camera.focal_x_px = camera.focal_y_px = 138.564;
@@ -66,14 +68,18 @@ inline void set_initial(config::RigConfig& rig, const std::string& joint, double
   }
 }
 
-/// Turns every noise source off so geometric tests are exact.
+/// Turns every noise source off so geometric tests are exact, and the eyes' foveation: whole
+/// frames at full resolution (tests of foveation set it again).
 inline void make_ideal(config::RigConfig& rig) {
   for (auto& joint : rig.joints) {
     joint.servo.motion_noise_std_rad = 0.0;
     joint.servo.encoder_counts_per_rev = 0;
     joint.servo.backlash_rad = 0.0;
   }
-  for (auto& camera : rig.cameras) camera.image_noise_std = 0.0;
+  for (auto& camera : rig.cameras) {
+    camera.image_noise_std = 0.0;
+    camera.sim_foveation = {};
+  }
 }
 
 struct Centroid {

@@ -86,6 +86,21 @@ struct JointGroupConfig {
 
 enum class PixelFormatConfig : std::uint8_t { kGrey8, kRgb8 };
 
+/// Sim cameras only: foveated rendering. The eye's field is rendered at 1 / periphery_downscale of
+/// its resolution and shown upsampled (each rendered pixel a periphery_downscale square), with a
+/// centred fovea_px x fovea_px window rendered at full resolution over it. The retina reads full
+/// resolution only near the fixation point (its levels of blocks finer than the downscale), so a
+/// fovea that covers those levels serves it at a fraction of the pixels. Off when the downscale
+/// is 1.
+struct SimFoveationConfig {
+  int periphery_downscale = 1;
+  int fovea_px = 0;
+  bool enabled() const { return periphery_downscale > 1; }
+  /// Whether it tiles a width x height image: the downscale divides both sides and the fovea,
+  /// no larger than the shorter side, sits centred on whole pixels. Off always fits.
+  bool fits(int width_px, int height_px) const;
+};
+
 struct CameraConfig {
   std::string name;
   std::string backend;  ///< "sim".
@@ -101,6 +116,7 @@ struct CameraConfig {
   double principal_y_px = 0.0;
   PixelFormatConfig format = PixelFormatConfig::kRgb8;
   double image_noise_std = 0.0;  ///< Sim: Gaussian noise on grey levels (0-255 scale).
+  SimFoveationConfig sim_foveation;
 };
 
 struct StereoConfig {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,67 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
+
+// Stereo pairs rendered in some seconds of wall time.
+struct Round {
+  int pairs = 0;
+  double seconds = 0.0;
+  double fps() const { return seconds > 0.0 ? pairs / seconds : 0.0; }
+  Round& operator+=(const Round& other) {
+    pairs += other.pairs;
+    seconds += other.seconds;
+    return *this;
+  }
+};
+
+double median_of(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Both eyes of a sim backend grabbed through the HAL, a physics step between pairs so that every
+// pair is a new frame; the physics step's time is not counted.
+class StereoPipeline {
+ public:
+  StereoPipeline(sim::SimBackend& backend, const config::RigConfig& rig) : backend_(backend) {
+    backend_.activate();
+    left_ = backend_.make_camera(rig.stereo->left_camera);
+    right_ = backend_.make_camera(rig.stereo->right_camera);
+    const auto& k = left_->info().intrinsics;
+    left_image_ = hal::Image(k.width_px, k.height_px, left_->info().format);
+    right_image_ = hal::Image(k.width_px, k.height_px, right_->info().format);
+  }
+  const hal::CameraIntrinsics& intrinsics() const { return left_->info().intrinsics; }
+  hal::PixelFormat format() const { return left_->info().format; }
+
+  Round round(double budget_s) {
+    int pairs = 0;
+    const auto start = Clock::now();
+    double physics_s = 0.0;
+    while (seconds_since(start) < budget_s) {
+      const auto physics_start = Clock::now();
+      stamp_ns_ += 1'000'000;
+      (void)backend_.physics().step_once(stamp_ns_);
+      physics_s += seconds_since(physics_start);
+      if (left_->grab(left_image_) != hal::Status::kOk ||
+          right_->grab(right_image_) != hal::Status::kOk) {
+        throw std::runtime_error("a camera grab failed during the benchmark");
+      }
+      ++pairs;
+    }
+    return {pairs, seconds_since(start) - physics_s};
+  }
+
+ private:
+  sim::SimBackend& backend_;
+  std::unique_ptr<hal::Camera> left_;
+  std::unique_ptr<hal::Camera> right_;
+  hal::Image left_image_;
+  hal::Image right_image_;
+  std::int64_t stamp_ns_ = 0;
+};
 
 /// Every sim group of the rig, commanded along slow sines inside the joints' limits, so the
 /// physics step works with moving arms and contacts, not a robot at rest.
@@ -158,16 +221,40 @@ int run_sim_bench_command(std::span<const std::string> args) {
             static_cast<double>(contacts) / static_cast<double>(steps), backend.world().model()->nq,
             backend.world().model()->nv};
   };
+  // The rig's foveation, if its eyes have one; the whole-frame pipeline is measured without it.
+  std::optional<config::SimFoveationConfig> foveation;
+  config::RigConfig whole_frame_rig = rig;
+  for (auto& camera : whole_frame_rig.cameras) {
+    if (camera.sim_foveation.enabled() &&
+        !camera.sim_foveation.fits(camera.width_px, camera.height_px)) {
+      std::cerr << "sim-bench: the rig's foveation (fovea " << camera.sim_foveation.fovea_px
+                << " px, periphery 1/" << camera.sim_foveation.periphery_downscale
+                << ") does not fit " << camera.width_px << "x" << camera.height_px
+                << ": whole frames only\n";
+    } else if (camera.sim_foveation.enabled()) {
+      foveation = camera.sim_foveation;
+    }
+    camera.sim_foveation = {};
+  }
+  if (!foveation) {
+    for (auto& camera : rig.cameras) camera.sim_foveation = {};
+  }
   PhysicsFigure full;
   PhysicsFigure robot_only;
-  std::unique_ptr<sim::SimBackend> camera_backend;
+  std::unique_ptr<sim::SimBackend> whole_backend;
+  std::unique_ptr<sim::SimBackend> foveated_backend;
   try {
     full = measure_physics(physics_scene);
     robot_only = measure_physics(camera_scene);
-    camera_backend =
-        std::make_unique<sim::SimBackend>(rig, camera_scene, hardware, hal::BackendContext{&clock});
+    whole_backend = std::make_unique<sim::SimBackend>(whole_frame_rig, camera_scene, hardware,
+                                                      hal::BackendContext{&clock});
     // Made now, not at the first camera: the renderer refuses cameras larger than it can draw.
-    (void)camera_backend->renderer();
+    (void)whole_backend->renderer();
+    if (foveation) {
+      foveated_backend = std::make_unique<sim::SimBackend>(rig, camera_scene, hardware,
+                                                           hal::BackendContext{&clock});
+      (void)foveated_backend->renderer();
+    }
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return kExitBadInput;
@@ -178,39 +265,17 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const int nv = full.nv;
 
   // Cameras: the pipeline (HAL grab of both eyes, a physics step between pairs so every pair is
-  // a new frame) against the raw MuJoCo loop, alternated in rounds so that both see the same
-  // machine load.
-  sim::SimBackend& backend = *camera_backend;
-  backend.activate();
-  auto left = backend.make_camera(rig.stereo->left_camera);
-  auto right = backend.make_camera(rig.stereo->right_camera);
-  const auto& intrinsics = left->info().intrinsics;
-  hal::Image left_image(intrinsics.width_px, intrinsics.height_px, left->info().format);
-  hal::Image right_image(intrinsics.width_px, intrinsics.height_px, right->info().format);
-  sim::Renderer& renderer = backend.renderer();
-  const int left_id = backend.world().camera_id(rig.stereo->left_camera);
-  const int right_id = backend.world().camera_id(rig.stereo->right_camera);
+  // a new frame) on whole frames and, if the rig's eyes are foveated, foveated, against the raw
+  // MuJoCo loop on whole frames, alternated in rounds so that all see the same machine load.
+  StereoPipeline whole(*whole_backend, rig);
+  std::optional<StereoPipeline> foveated;
+  if (foveated_backend) foveated.emplace(*foveated_backend, rig);
+  const auto& intrinsics = whole.intrinsics();
+  sim::Renderer& renderer = whole_backend->renderer();
+  const int left_id = whole_backend->world().camera_id(rig.stereo->left_camera);
+  const int right_id = whole_backend->world().camera_id(rig.stereo->right_camera);
   std::vector<std::uint8_t> raw(static_cast<std::size_t>(intrinsics.width_px) *
                                 intrinsics.height_px * 3);
-  std::int64_t stamp_ns = 0;
-
-  auto pipeline_round = [&](double budget_s) {
-    int pairs = 0;
-    const auto start = Clock::now();
-    double physics_s = 0.0;
-    while (seconds_since(start) < budget_s) {
-      const auto physics_start = Clock::now();
-      stamp_ns += 1'000'000;
-      (void)backend.physics().step_once(stamp_ns);
-      physics_s += seconds_since(physics_start);
-      if (left->grab(left_image) != hal::Status::kOk ||
-          right->grab(right_image) != hal::Status::kOk) {
-        throw std::runtime_error("a camera grab failed during the benchmark");
-      }
-      ++pairs;
-    }
-    return std::pair<int, double>{pairs, seconds_since(start) - physics_s};
-  };
   auto raw_round = [&](double budget_s) {
     int pairs = 0;
     const auto start = Clock::now();
@@ -221,29 +286,29 @@ int run_sim_bench_command(std::span<const std::string> args) {
                                     raw.data());
       ++pairs;
     }
-    return std::pair<int, double>{pairs, seconds_since(start)};
+    return Round{pairs, seconds_since(start)};
   };
-  (void)pipeline_round(0.2);  // Warm-up: JIT-compiled llvmpipe shaders, caches.
+  (void)whole.round(0.2);  // Warm-up: JIT-compiled llvmpipe shaders, caches.
+  if (foveated) (void)foveated->round(0.2);
   (void)raw_round(0.2);
-  // Short alternating rounds; the ratio is the median of the rounds' ratios, so a burst of
+  // Short alternating rounds; each ratio is the median of the rounds' ratios, so a burst of
   // load from another process skews one round, not the figure.
   constexpr int kRounds = 10;
-  int pipeline_pairs = 0, raw_pairs = 0;
-  double pipeline_s = 0.0, raw_s = 0.0;
-  std::vector<double> ratios;
+  Round whole_total, foveated_total, raw_total;
+  std::vector<double> whole_ratios, foveated_ratios;
   for (int round = 0; round < kRounds; ++round) {
-    const auto [p, ps] = pipeline_round(seconds / kRounds);
-    const auto [r, rs] = raw_round(seconds / kRounds);
-    pipeline_pairs += p;
-    pipeline_s += ps;
-    raw_pairs += r;
-    raw_s += rs;
-    ratios.push_back((p / ps) / (r / rs));
+    const Round w = whole.round(seconds / kRounds);
+    const Round f = foveated ? foveated->round(seconds / kRounds) : Round{};
+    const Round r = raw_round(seconds / kRounds);
+    whole_total += w;
+    foveated_total += f;
+    raw_total += r;
+    whole_ratios.push_back(w.fps() / r.fps());
+    if (foveated) foveated_ratios.push_back(f.fps() / r.fps());
   }
-  std::sort(ratios.begin(), ratios.end());
-  const double ratio = 0.5 * (ratios[kRounds / 2 - 1] + ratios[kRounds / 2]);
-  const double camera_fps = pipeline_pairs / pipeline_s;
-  const double raw_fps = raw_pairs / raw_s;
+  const double camera_fps = whole_total.fps();
+  const double raw_fps = raw_total.fps();
+  const double ratio = median_of(whole_ratios);
   const std::string gl = renderer.gl_renderer_name();
 
   if (parser.flag_set("json")) {
@@ -258,9 +323,16 @@ int run_sim_bench_command(std::span<const std::string> args) {
         {"height", intrinsics.height_px},
         {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
         {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
-        {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
+        {"camera_vs_raw", as_printed(ratio, "%.3f")},
+        {"foveation", foveation ? Json{{"periphery_downscale", foveation->periphery_downscale},
+                                       {"fovea_px", foveation->fovea_px}}
+                                : Json(nullptr)},
+        {"foveated_stereo_fps",
+         foveated ? Json(as_printed(foveated_total.fps(), "%.1f")) : Json(nullptr)},
+        {"foveated_vs_raw",
+         foveated ? Json(as_printed(median_of(foveated_ratios), "%.3f")) : Json(nullptr)},
         {"camera_scene", camera_scene.name},
-        {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
+        {"format", whole.format() == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
         {"gl_renderer", gl}};
     std::cout << json_text(figures);
   } else {
@@ -275,6 +347,13 @@ int run_sim_bench_command(std::span<const std::string> args) {
     std::printf("  raw MuJoCo        %10.1f stereo frames/s (render + read back)\n", raw_fps);
     std::printf("  pipeline / raw    %10.1f %%  (median of %d alternating rounds)\n", 100.0 * ratio,
                 kRounds);
+    if (foveated) {
+      std::printf(
+          "  foveated pipeline %10.1f stereo frames/s (periphery 1/%d, fovea %d px), "
+          "%.2fx raw\n",
+          foveated_total.fps(), foveation->periphery_downscale, foveation->fovea_px,
+          median_of(foveated_ratios));
+    }
   }
   return kExitOk;
 }

@@ -244,7 +244,7 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double ratio = 0.5 * (ratios[kRounds / 2 - 1] + ratios[kRounds / 2]);
   const double camera_fps = pipeline_pairs / pipeline_s;
   const double raw_fps = raw_pairs / raw_s;
-  const std::string gl = renderer.gl_renderer_name();
+  const std::string gl = renderer.description().gl_renderer;
 
   if (parser.flag_set("json")) {
     const Json figures = {

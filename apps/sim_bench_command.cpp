@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +19,12 @@
 #include "cambio/config/scene_config.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/manual_clock.hpp"
+#include "cambio/sim/egl_devices.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "json_output.hpp"
+#include "renderer_report.hpp"
 
 namespace cambio::app {
 
@@ -244,27 +247,42 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double ratio = 0.5 * (ratios[kRounds / 2 - 1] + ratios[kRounds / 2]);
   const double camera_fps = pipeline_pairs / pipeline_s;
   const double raw_fps = raw_pairs / raw_s;
-  const std::string gl = renderer.description().gl_renderer;
+  const sim::RendererDescription& rendering = renderer.description();
+  // What there was to render on: listed for the report, whichever device the renderer took.
+  std::optional<std::vector<sim::EglDevice>> devices;
+  std::string devices_problem;
+  try {
+    devices = sim::enumerate_egl_devices();
+  } catch (const std::runtime_error& error) {
+    devices_problem = error.what();
+  }
 
   if (parser.flag_set("json")) {
-    const Json figures = {
-        {"physics_steps_per_s", std::llround(physics_steps_per_s)},
-        {"physics_scene", physics_scene.name},
-        {"nq", nq},
-        {"nv", nv},
-        {"mean_contacts", as_printed(mean_contacts, "%.2f")},
-        {"physics_robot_only_steps_per_s", std::llround(robot_only.steps_per_s)},
-        {"width", intrinsics.width_px},
-        {"height", intrinsics.height_px},
-        {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
-        {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
-        {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
-        {"camera_scene", camera_scene.name},
-        {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
-        {"gl_renderer", gl}};
+    Json figures = {{"physics_steps_per_s", std::llround(physics_steps_per_s)},
+                    {"physics_scene", physics_scene.name},
+                    {"nq", nq},
+                    {"nv", nv},
+                    {"mean_contacts", as_printed(mean_contacts, "%.2f")},
+                    {"physics_robot_only_steps_per_s", std::llround(robot_only.steps_per_s)},
+                    {"width", intrinsics.width_px},
+                    {"height", intrinsics.height_px},
+                    {"camera_stereo_fps", as_printed(camera_fps, "%.1f")},
+                    {"raw_mujoco_stereo_fps", as_printed(raw_fps, "%.1f")},
+                    {"camera_vs_raw", as_printed(camera_fps / raw_fps, "%.3f")},
+                    {"camera_scene", camera_scene.name},
+                    {"format", left->info().format == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"}};
+    add_renderer_fields(figures, rendering);
+    figures["egl_devices"] = devices ? egl_devices_json(*devices) : Json(nullptr);
+    if (!devices) std::cerr << "cambio sim-bench: " << devices_problem << "\n";
     std::cout << json_text(figures);
   } else {
-    std::printf("sim-bench (%s)\n", gl.c_str());
+    std::printf("sim-bench (%s, %s)\n", rendering.gl_renderer.c_str(), rendering.gl_vendor.c_str());
+    const std::string fallback = rendering.fallback_reason.empty()
+                                     ? ""
+                                     : " (auto fell back: " + rendering.fallback_reason + ")";
+    std::printf("  rendering on      %s%s\n", rendering.egl_platform.c_str(), fallback.c_str());
+    std::printf("  EGL devices       %s\n",
+                devices ? sim::describe_egl_devices(*devices).c_str() : devices_problem.c_str());
     std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",
                 physics_steps_per_s, rig.name.c_str(), physics_scene.name.c_str(), nv,
                 mean_contacts);

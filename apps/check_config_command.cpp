@@ -71,7 +71,8 @@ void print_interface_check(const config::CanBusConfig& bus, std::ostream& out) {
   }
 }
 
-void print_summary(const RigConfig& rig, std::ostream& out) {
+void print_summary(const RigConfig& rig, const config::RenderDeviceChoice& render_device,
+                   std::ostream& out) {
   out << "rig " << rig.name << " (" << rig.source_file << "): OK\n";
   out << "  " << count(rig.joints.size(), "joint") << " in " << count(rig.groups.size(), "group")
       << ", " << count(rig.cameras.size(), "camera") << ", " << count(rig.loops.size(), "loop")
@@ -163,8 +164,13 @@ void print_summary(const RigConfig& rig, std::ostream& out) {
       print_interface_check(bus, out);
     }
   }
-  out << "\nsim physics " << plain(rig.sim.physics_rate_hz) << " Hz; lock memory "
-      << (rig.runtime.lock_memory ? "yes" : "no") << "\n";
+  out << "\nsim physics " << plain(rig.sim.physics_rate_hz) << " Hz, render device "
+      << config::to_string(render_device.device);
+  if (render_device.from_environment()) {
+    out << " (" << config::kRenderDeviceVariable << "; the rig says "
+        << config::to_string(rig.sim.render_device) << ")";
+  }
+  out << "; lock memory " << (rig.runtime.lock_memory ? "yes" : "no") << "\n";
 }
 
 }  // namespace
@@ -194,7 +200,14 @@ int run_check_config_command(std::span<const std::string> args) {
 
   const auto rig = load_rig_or_report(*parser.positional_value("FILE"), overrides);
   if (!rig) return kExitBadInput;
-  print_summary(*rig, std::cout);
+  config::RenderDeviceChoice render_device;
+  try {
+    render_device = config::choose_render_device(rig->sim.render_device, rig->source_file);
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
+  print_summary(*rig, render_device, std::cout);
   return kExitOk;
 }
 

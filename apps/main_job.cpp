@@ -305,7 +305,17 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
       }
     }
   }
+  result.renderer = renderer();
   return result;
+}
+
+std::optional<sim::RendererDescription> MainJob::renderer() const {
+  const auto sim = backends_.find("sim");
+  if (sim == backends_.end()) return std::nullopt;
+  const sim::Renderer* renderer =
+      static_cast<const sim::SimBackend&>(*sim->second).renderer_if_made();
+  if (renderer == nullptr) return std::nullopt;
+  return renderer->description();
 }
 
 std::vector<hal::Image> MainJob::last_frames() {

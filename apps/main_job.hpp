@@ -21,6 +21,7 @@
 #include "cambio/perception/ssm_server.hpp"
 #include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
+#include "cambio/sim/egl_context.hpp"
 #include "run_trace.hpp"
 
 namespace cambio::app {
@@ -54,6 +55,8 @@ struct MainJobResult {
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
   std::vector<CanGroupReport> can_groups;  ///< One per socketcan group.
+  /// What the sim's cameras rendered with; none when the run made no renderer.
+  std::optional<sim::RendererDescription> renderer;
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):
@@ -92,6 +95,9 @@ class MainJob {
   std::vector<std::string> head_joint_names() const;
   /// Paced by the wall clock (realtime executor) rather than simulated time.
   bool realtime() const { return realtime_; }
+  /// What the sim's renderer renders with, if the run has one (the sim made it for a camera);
+  /// asking never makes one.
+  std::optional<sim::RendererDescription> renderer() const;
 
  private:
   void build_backends(const hal::BackendFactory& factory);

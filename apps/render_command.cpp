@@ -205,9 +205,9 @@ int run_render_command(std::span<const std::string> args) {
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  std::cout << "rendered rig " << rig.name << " in scene " << scene.name << " ("
-            << backend->renderer().gl_renderer_name() << ", " << static_cast<int>(seconds * 1000)
-            << " ms)\n";
+  std::cout << "rendered rig " << rig.name << " in scene " << scene.name << " in "
+            << static_cast<int>(seconds * 1000) << " ms\n"
+            << "renderer: " << backend->renderer().description().summary() << "\n";
   out.commit();
   for (const auto& name : out.files()) std::cout << "  " << (out.path() / name).string() << "\n";
   return kExitOk;

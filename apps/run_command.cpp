@@ -17,6 +17,7 @@
 #include "output_directory.hpp"
 #include "peak_rss.hpp"
 #include "progress_reporter.hpp"
+#include "renderer_report.hpp"
 #include "run_metrics.hpp"
 #include "run_plots.hpp"
 #include "stop_signal.hpp"
@@ -103,6 +104,11 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                                         {"emergencies", c.emergencies},
                                         {"error_frames", c.error_frames},
                                         {"boot_ups", c.boot_ups}};
+  }
+  if (result.renderer) {
+    add_renderer_fields(json["renderer"], *result.renderer);
+  } else {
+    json["renderer"] = nullptr;
   }
   json["wall_time_shares"] = runtime::wall_time_shares_json(
       runtime::wall_time_shares(result.loops.data(), result.loops.size(), result.wall_s),
@@ -232,6 +238,9 @@ int run_run_command(std::span<const std::string> args) {
   std::cerr << "cambio run: " << experiment.name << " on rig '" << experiment.rig.name << "', "
             << (job->realtime() ? "realtime" : "lockstep") << " executor, " << experiment.duration_s
             << " s, seed " << experiment.seed << "\n";
+  if (const auto renderer = job->renderer()) {
+    std::cerr << "cambio run: renderer " << renderer->summary() << "\n";
+  }
   if (job->realtime() && experiment.executor == config::ExecutorKind::kLockstep) {
     std::cerr << "cambio run: the rig drives real hardware: running on the realtime executor\n";
   }

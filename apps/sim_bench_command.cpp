@@ -20,10 +20,12 @@
 #include "cambio/config/scene_config.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/manual_clock.hpp"
+#include "cambio/sim/egl_devices.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "json_output.hpp"
+#include "renderer_report.hpp"
 
 namespace cambio::app {
 
@@ -309,10 +311,18 @@ int run_sim_bench_command(std::span<const std::string> args) {
   const double camera_fps = whole_total.fps();
   const double raw_fps = raw_total.fps();
   const double ratio = median_of(whole_ratios);
-  const std::string gl = renderer.gl_renderer_name();
+  const sim::RendererDescription& rendering = renderer.description();
+  // What there was to render on: listed for the report, whichever device the renderer took.
+  std::optional<std::vector<sim::EglDevice>> devices;
+  std::string devices_problem;
+  try {
+    devices = sim::enumerate_egl_devices();
+  } catch (const std::runtime_error& error) {
+    devices_problem = error.what();
+  }
 
   if (parser.flag_set("json")) {
-    const Json figures = {
+    Json figures = {
         {"physics_steps_per_s", std::llround(physics_steps_per_s)},
         {"physics_scene", physics_scene.name},
         {"nq", nq},
@@ -332,11 +342,19 @@ int run_sim_bench_command(std::span<const std::string> args) {
         {"foveated_vs_raw",
          foveated ? Json(as_printed(median_of(foveated_ratios), "%.3f")) : Json(nullptr)},
         {"camera_scene", camera_scene.name},
-        {"format", whole.format() == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"},
-        {"gl_renderer", gl}};
+        {"format", whole.format() == hal::PixelFormat::kRgb8 ? "rgb8" : "grey8"}};
+    add_renderer_fields(figures, rendering);
+    figures["egl_devices"] = devices ? egl_devices_json(*devices) : Json(nullptr);
+    if (!devices) std::cerr << "cambio sim-bench: " << devices_problem << "\n";
     std::cout << json_text(figures);
   } else {
-    std::printf("sim-bench (%s)\n", gl.c_str());
+    std::printf("sim-bench (%s, %s)\n", rendering.gl_renderer.c_str(), rendering.gl_vendor.c_str());
+    const std::string fallback = rendering.fallback_reason.empty()
+                                     ? ""
+                                     : " (auto fell back: " + rendering.fallback_reason + ")";
+    std::printf("  rendering on      %s%s\n", rendering.egl_platform.c_str(), fallback.c_str());
+    std::printf("  EGL devices       %s\n",
+                devices ? sim::describe_egl_devices(*devices).c_str() : devices_problem.c_str());
     std::printf("  physics           %10.0f steps/s  (rig %s, scene %s, nv %d, %.1f contacts)\n",
                 physics_steps_per_s, rig.name.c_str(), physics_scene.name.c_str(), nv,
                 mean_contacts);

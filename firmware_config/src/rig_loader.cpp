@@ -761,6 +761,14 @@ RigConfig read_rig(MapReader root, const std::string& file) {
         Range::closed(kMinPhysicsRate_hz, kMaxRate_hz)
             .because("the encoders' 10 ms velocity window needs a step of at most 10 ms; the "
                      "dead-time lines grow with the rate"));
+    // A name or an index, read as text and parsed as CAMBIO_EGL_DEVICE is (text_or reports a
+    // value that is not text, and returns "auto" for it).
+    const std::string render_device = sim->text_or("render_device", "auto");
+    if (const auto device = parse_render_device(render_device)) {
+      rig.sim.render_device = *device;
+    } else {
+      sim->error("render_device", render_device_mismatch(render_device));
+    }
     sim->finish();
   }
   if (auto runtime = root.optional_map("runtime")) {

@@ -78,6 +78,7 @@ Renderer::Lease::~Lease() {
 
 Renderer::Renderer(const World& world)
     : world_(world),
+      egl_(config::choose_render_device(world.rig().sim.render_device, world.rig().source_file)),
       scene_(std::make_unique<mjvScene>()),
       option_(std::make_unique<mjvOption>()),
       context_(std::make_unique<mjrContext>()) {

@@ -196,6 +196,14 @@ TEST(CambioCli, RunTheSimDefaultBriefly) {
   EXPECT_EQ(summary.at("stereo_pairs"), 15);
   EXPECT_EQ(summary.at("mismatched_stereo_pairs"), 0);
   EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);
+  // The cameras' renderer, said on stderr and kept in the summary.
+  EXPECT_TRUE(contains(result.output, "cambio run: renderer ")) << result.output;
+  const auto& renderer = summary.at("renderer");
+  for (const char* key : {"egl_platform", "gl_renderer", "gl_vendor"}) {
+    EXPECT_TRUE(renderer.at(key).is_string()) << key << " in " << renderer.dump();
+  }
+  EXPECT_TRUE(renderer.at("egl_fallback_reason").is_string() ||
+              renderer.at("egl_fallback_reason").is_null());
 }
 
 // The main job end to end: the right eye starts 7.8 deg off and must verge on the textured

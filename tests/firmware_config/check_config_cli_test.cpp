@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "../scoped_environment_variable.hpp"
 #include "cambio/config/shipped_config.hpp"
 
 namespace {
@@ -97,11 +99,13 @@ TEST(CheckConfigCli, AnOverloadedBusNamesTheGroupToSlowDown) {
 
 TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
   const auto path = std::filesystem::temp_directory_path() / "cambio_check_config_bad.yaml";
+  int bogus_line = 0;  // The line after the shipped file's last.
   {
     std::ifstream in(shipped("pan_tilt.yaml"));
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const std::string from = "max_velocity_rad_s: 3.0";
     text.replace(text.find(from), from.size(), "max_velocity_rad_s: fast");
+    bogus_line = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
     text += "bogus_key: 1\n";
     std::ofstream out(path);
     out << text;
@@ -113,7 +117,35 @@ TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
                                             "number > 0, found \"fast\"\n"),
             std::string::npos)
       << run.output;
-  EXPECT_NE(run.output.find(path.string() + ":52:1: bogus_key: unknown key"), std::string::npos)
+  EXPECT_NE(run.output.find(path.string() + ":" + std::to_string(bogus_line) +
+                            ":1: bogus_key: unknown key"),
+            std::string::npos)
+      << run.output;
+}
+
+// The render device the sim would take: the rig's, or CAMBIO_EGL_DEVICE's, which must be one
+// the loader would accept.
+TEST(CheckConfigCli, SaysWhichRenderDeviceAndWhoChoseIt) {
+  CommandRun run = run_cambio(shipped("pan_tilt.yaml") + " --set sim.render_device=surfaceless");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("sim physics 1000 Hz, render device surfaceless; "), std::string::npos)
+      << run.output;
+  {
+    const cambio::testing::ScopedEnvironmentVariable variable("CAMBIO_EGL_DEVICE", "1");
+    run = run_cambio(shipped("pan_tilt.yaml"));
+  }
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("render device 1 (CAMBIO_EGL_DEVICE; the rig says auto)"),
+            std::string::npos)
+      << run.output;
+  {
+    const cambio::testing::ScopedEnvironmentVariable variable("CAMBIO_EGL_DEVICE", "first");
+    run = run_cambio(shipped("pan_tilt.yaml"));
+  }
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("environment: CAMBIO_EGL_DEVICE: expected auto, surfaceless or an "
+                            "EGL device index (0, 1, ...), found \"first\""),
+            std::string::npos)
       << run.output;
 }
 

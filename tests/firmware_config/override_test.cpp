@@ -66,7 +66,7 @@ TEST(Override, ParsesTheValueAsYaml) {
 }
 
 TEST(Override, CreatesMissingMaps) {
-  // pan_tilt.yaml has neither loops nor sim.
+  // pan_tilt.yaml has no loops.
   const RigConfig rig = load_rig(test::shipped_rig_path("pan_tilt.yaml"),
                                  sets({"loops.joint.rate_hz=500", "sim.physics_rate_hz=2000"}));
   EXPECT_EQ(rig.find_loop("joint")->rate_hz, 500.0);

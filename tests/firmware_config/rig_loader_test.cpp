@@ -85,6 +85,7 @@ TEST(ShippedRigs, CambioLoadsWithItsStatedValues) {
   EXPECT_EQ(rig.find_loop("joint")->priority, 80);
   EXPECT_EQ(rig.find_loop("camera")->rate_hz, 30.0);
   EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
+  EXPECT_EQ(rig.sim.render_device, RenderDevice{});  // auto
   EXPECT_FALSE(rig.runtime.lock_memory);
 }
 
@@ -108,6 +109,7 @@ TEST(ShippedRigs, PanTiltLoadsAndTakesTheDefaultLoops) {
     EXPECT_EQ(loop->overrun, OverrunPolicy::kSkip);
   }
   EXPECT_EQ(rig.sim.physics_rate_hz, 1000.0);
+  EXPECT_EQ(rig.sim.render_device.kind, RenderDevice::Kind::kAuto);
 }
 
 TEST(SmallRig, LoadsClean) {
@@ -572,6 +574,42 @@ TEST(RigLimits, CpuIsNotNarrowedSilently) {
   expect_single_issue(issues_of(yaml), 36, 16, "loops.joint.cpu",
                       "expected an integer in [-1, 1023] (-1: any; the kernel's CPU sets end "
                       "there), found 4294967296");
+}
+
+TEST(RenderDevice, TakesANameOrAnIndex) {
+  EXPECT_EQ(load_rig_from_string(small_rig(), "test.yaml").sim.render_device.kind,
+            RenderDevice::Kind::kAuto);
+  const std::vector<std::pair<std::string, RenderDevice>> cases = {
+      {"auto", {RenderDevice::Kind::kAuto, 0}},
+      {"surfaceless", {RenderDevice::Kind::kSurfaceless, 0}},
+      {"0", {RenderDevice::Kind::kIndex, 0}},
+      {"3", {RenderDevice::Kind::kIndex, 3}}};
+  for (const auto& [text, device] : cases) {
+    const RigConfig rig =
+        load_rig_from_string(small_rig() + "sim: {render_device: " + text + "}\n", "test.yaml");
+    EXPECT_EQ(rig.sim.render_device, device) << text;
+    EXPECT_EQ(to_string(rig.sim.render_device), text);
+  }
+  // From the command line as from the file.
+  const RigConfig rig = load_rig_from_string(small_rig(), "test.yaml",
+                                             {parse_override("sim.render_device=surfaceless")});
+  EXPECT_EQ(rig.sim.render_device.kind, RenderDevice::Kind::kSurfaceless);
+}
+
+TEST(RenderDevice, RefusesAnythingElseNamingTheAcceptedValues) {
+  // The device count is the machine's, not the file's: an index too large for this machine is
+  // refused when the sim opens it (tests/sim/egl_context_test.cpp), not here.
+  for (const std::string text : {"gpu", "-1", "+1", "1.0", "0x1", "Auto", "99999999999"}) {
+    const std::string yaml = small_rig() + "sim: {render_device: " + text + "}\n";  // Line 35.
+    expect_single_issue(
+        issues_of(yaml), 35, 22, "sim.render_device",
+        "expected auto, surfaceless or an EGL device index (0, 1, ...), found \"" + text + "\"");
+  }
+  const std::string list = small_rig() + "sim: {render_device: [0]}\n";
+  expect_single_issue(issues_of(list), 35, 22, "sim.render_device", "found a list of 1");
+  const std::string typo = small_rig() + "sim: {render_devices: 0}\n";
+  expect_single_issue(issues_of(typo), 35, 7, "sim.render_devices",
+                      "did you mean \"render_device\"");
 }
 
 }  // namespace

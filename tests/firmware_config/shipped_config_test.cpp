@@ -7,35 +7,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <string>
 
+#include "../scoped_environment_variable.hpp"
 #include "cambio/config/rig_loader.hpp"
 
 namespace cambio::config {
 namespace {
-
-/// Sets $CAMBIO_CONFIG_DIR for one test and puts back what was there.
-class ConfigDirOverride {
- public:
-  explicit ConfigDirOverride(const std::string& dir) {
-    if (const char* previous = std::getenv(kName)) previous_ = previous;
-    ::setenv(kName, dir.c_str(), 1);
-  }
-  ~ConfigDirOverride() {
-    if (previous_) {
-      ::setenv(kName, previous_->c_str(), 1);
-    } else {
-      ::unsetenv(kName);
-    }
-  }
-  ConfigDirOverride(const ConfigDirOverride&) = delete;
-  ConfigDirOverride& operator=(const ConfigDirOverride&) = delete;
-
- private:
-  static constexpr const char* kName = "CAMBIO_CONFIG_DIR";
-  std::optional<std::string> previous_;
-};
 
 TEST(ShippedConfig, FromTheBuildTreeTheSourceTreeServes) {
   if (std::getenv("CAMBIO_CONFIG_DIR") != nullptr) GTEST_SKIP() << "CAMBIO_CONFIG_DIR is set";
@@ -53,7 +31,7 @@ TEST(ShippedConfig, EnvironmentVariableWinsForEveryKind) {
   const auto dir = std::filesystem::temp_directory_path() / "cambio_shipped_config_test";
   std::filesystem::create_directories(dir / "perception");
   std::ofstream(dir / "perception" / "ssm.yaml") << "rate_hz: 30\n";
-  const ConfigDirOverride override_dir(dir.string());
+  const cambio::testing::ScopedEnvironmentVariable override_dir("CAMBIO_CONFIG_DIR", dir.string());
   EXPECT_EQ(shipped_config_dir(), dir.string());
   EXPECT_EQ(find_shipped_config("perception/ssm.yaml"), (dir / "perception" / "ssm.yaml").string());
   EXPECT_EQ(find_shipped_config("rigs/cambio.yaml"), "");

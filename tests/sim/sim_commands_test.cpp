@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "../apps/run_cambio.hpp"
+#include "../scoped_environment_variable.hpp"
 #include "cambio/config/shipped_config.hpp"
 
 namespace cambio::sim {
@@ -24,9 +25,12 @@ std::filesystem::path fresh_dir(const std::string& name) {
 
 TEST(RenderCommandTest, WritesTheEyesDepthAndOverviewForAPose) {
   const auto out = fresh_dir("render");
+  const cambio::testing::ScopedEnvironmentVariable surfaceless("CAMBIO_EGL_DEVICE", "surfaceless");
   const auto result = run_cambio("render --config cambio --scene vergence --out '" + out.string() +
                                  "' --set joints.left_eye_pan=0.085 --pose right_eye_pan=12deg");
   ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("\nrenderer: "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(", on Mesa surfaceless\n"), std::string::npos) << result.output;
   for (const char* name : {"left.png", "right.png", "depth_left.png", "overview.png"}) {
     EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
   }
@@ -101,6 +105,43 @@ TEST(SimBenchCommandTest, PrintsTheFiguresAsJson) {
   for (const char* key : {"physics_steps_per_s", "camera_stereo_fps", "raw_mujoco_stereo_fps"}) {
     EXPECT_TRUE(figures[key].is_number()) << key << " in " << result.output;
   }
+  // What rendered, and what there was to render on.
+  for (const char* key : {"egl_platform", "gl_renderer", "gl_vendor"}) {
+    EXPECT_TRUE(figures[key].is_string()) << key << " in " << result.output;
+  }
+  EXPECT_TRUE(figures["egl_fallback_reason"].is_string() ||
+              figures["egl_fallback_reason"].is_null());
+  ASSERT_TRUE(figures["egl_devices"].is_array()) << result.output;
+  ASSERT_FALSE(figures["egl_devices"].empty()) << "Mesa lists llvmpipe as a device";
+  for (const auto& device : figures["egl_devices"]) {
+    EXPECT_TRUE(device["index"].is_number_integer()) << device;
+    EXPECT_TRUE(device["software"].is_boolean()) << device;
+    EXPECT_TRUE(device["drm_device_file"].is_string() || device["drm_device_file"].is_null());
+    EXPECT_TRUE(device["drm_render_node"].is_string() || device["drm_render_node"].is_null());
+  }
+}
+
+// A render device the machine does not have stops the command before anything renders, exit 2,
+// naming the key and the devices there are; CAMBIO_EGL_DEVICE is checked the same way.
+TEST(RenderCommandTest, AnAbsentRenderDeviceIsBadInput) {
+  const auto out = fresh_dir("render_absent_device");
+  auto result =
+      run_cambio("render --scene vergence --out '" + out.string() + "' --set sim.render_device=99");
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("sim.render_device: expected an EGL device index in [0, "),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("(devices: device 0: "), std::string::npos) << result.output;
+  {
+    const cambio::testing::ScopedEnvironmentVariable variable("CAMBIO_EGL_DEVICE", "gpu");
+    result = run_cambio("render --scene vergence --out '" + out.string() + "'");
+  }
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("environment: CAMBIO_EGL_DEVICE: expected auto, surfaceless or "
+                               "an EGL device index (0, 1, ...), found \"gpu\""),
+            std::string::npos)
+      << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "left.png"));
 }
 
 }  // namespace

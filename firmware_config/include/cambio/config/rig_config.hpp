@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/render_device.hpp"
+
 namespace cambio::config {
 
 /// A position and orientation of a child frame in its parent frame: translation in metres, then
@@ -158,6 +160,8 @@ struct LoopConfig {
 
 struct SimConfig {
   double physics_rate_hz = 1000.0;
+  /// Where the cameras render (CAMBIO_EGL_DEVICE overrides it): see RenderDevice.
+  RenderDevice render_device;
 };
 
 struct RuntimeConfig {

@@ -84,10 +84,12 @@ class Renderer {
     bool held_ = false;
   };
 
-  /// Allocates everything (GL context, framebuffers, textures, scene). Throws
-  /// config::ConfigError naming the rig's cameras larger than this GL implementation draws
-  /// (GL_MAX_RENDERBUFFER_SIZE, GL_MAX_TEXTURE_SIZE, GL_MAX_VIEWPORT_DIMS), std::runtime_error or
-  /// MujocoError.
+  /// Allocates everything (GL context, framebuffers, textures, scene). The GL context is on the
+  /// render device of config::choose_render_device: CAMBIO_EGL_DEVICE, else the rig's
+  /// sim.render_device (see EglContext). Throws config::ConfigError for a bad CAMBIO_EGL_DEVICE,
+  /// a chosen device that does not exist or cannot render, or the rig's cameras larger than this
+  /// GL implementation draws (GL_MAX_RENDERBUFFER_SIZE, GL_MAX_TEXTURE_SIZE,
+  /// GL_MAX_VIEWPORT_DIMS); std::runtime_error or MujocoError.
   explicit Renderer(const World& world);
   ~Renderer();
   Renderer(const Renderer&) = delete;
@@ -123,7 +125,8 @@ class Renderer {
   int overview_camera_id() const;
   /// The render-side state (after set_state): poses of bodies, cameras (xpos, xmat).
   const mjData_* state() const { return data_; }
-  std::string gl_renderer_name() { return egl_.renderer_name(); }
+  /// The EGL platform and GL implementation it renders with. Thread-safe.
+  const RendererDescription& description() const { return egl_.description(); }
   double near_m() const { return near_m_; }
   double far_m() const { return far_m_; }
 

@@ -97,8 +97,12 @@ class SimBackend final : public hal::Backend {
   GroundTruth& ground_truth();
   World& world() { return *world_; }
   PhysicsLoop& physics() { return *physics_; }
-  /// Hold a Renderer::Lease while using it directly.
+  /// Hold a Renderer::Lease while using it directly. Makes the renderer if no camera or
+  /// ground-truth render has yet.
   Renderer& renderer();
+  /// The renderer if a camera or a ground-truth render made it, else null (a physics-only run
+  /// opens no GL context).
+  const Renderer* renderer_if_made() const { return renderer_.get(); }
 
  private:
   /// Index into World::joints() of a joint in a sim group, else std::invalid_argument.

@@ -5,33 +5,14 @@
 #include <cmath>
 
 #include <mujoco/mujoco.h>
+#include <Eigen/Geometry>
 
 namespace cambio::sim {
 
 namespace {
 
-struct Vec3 {
-  double x, y, z;
-};
-Vec3 operator-(const Vec3& a, const Vec3& b) {
-  return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-Vec3 operator+(const Vec3& a, const Vec3& b) {
-  return {a.x + b.x, a.y + b.y, a.z + b.z};
-}
-Vec3 operator*(double s, const Vec3& a) {
-  return {s * a.x, s * a.y, s * a.z};
-}
-double dot(const Vec3& a, const Vec3& b) {
-  return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-Vec3 normalized(const Vec3& a) {
-  const double n = std::sqrt(dot(a, a));
-  return n > 0.0 ? (1.0 / n) * a : a;
-}
+using Vec3 = Eigen::Vector3d;
+
 Vec3 from(const float* v) {
   return {v[0], v[1], v[2]};
 }
@@ -40,16 +21,16 @@ Vec3 from(const float* v) {
 struct HalfSpace {
   Vec3 normal;
   double offset;
-  double signed_distance(const Vec3& p) const { return dot(normal, p) + offset; }
+  double signed_distance(const Vec3& p) const { return normal.dot(p) + offset; }
 };
 
 // The six half-spaces of MuJoCo's OpenGL frustum (mjr_render: left/right from the centre and the
 // viewport's aspect, bottom/top/near/far as given), in the world frame.
 std::array<HalfSpace, 6> frustum_of(const mjvGLCamera& camera, double aspect) {
   const Vec3 position = from(camera.pos);
-  const Vec3 forward = normalized(from(camera.forward));
-  const Vec3 up = normalized(from(camera.up));
-  const Vec3 right = cross(forward, up);
+  const Vec3 forward = from(camera.forward).normalized();
+  const Vec3 up = from(camera.up).normalized();
+  const Vec3 right = forward.cross(up);
   const double near = camera.frustum_near;
   const double half_width = 0.5 * aspect * (camera.frustum_top - camera.frustum_bottom);
   const double left = camera.frustum_center - half_width;
@@ -57,16 +38,17 @@ std::array<HalfSpace, 6> frustum_of(const mjvGLCamera& camera, double aspect) {
   // A side plane through the eye containing the edge direction near*forward + edge*axis; its
   // inward normal is perpendicular to that edge and to the other image axis.
   const Vec3 centre = near * forward;
-  const Vec3 inside = centre + camera.frustum_center * right +
+  const Vec3 inside = centre + static_cast<double>(camera.frustum_center) * right +
                       0.5 * (camera.frustum_bottom + camera.frustum_top) * up;
   auto side = [&](const Vec3& edge_direction, const Vec3& other_axis) {
-    Vec3 normal = normalized(cross(edge_direction, other_axis));
-    if (dot(normal, inside) < 0.0) normal = -1.0 * normal;
-    return HalfSpace{normal, -dot(normal, position)};
+    Vec3 normal = edge_direction.cross(other_axis).normalized();
+    if (normal.dot(inside) < 0.0) normal = -1.0 * normal;
+    return HalfSpace{normal, -normal.dot(position)};
   };
   return {
-      HalfSpace{forward, -dot(forward, position + near * forward)},
-      HalfSpace{-1.0 * forward, dot(forward, position + camera.frustum_far * forward)},
+      HalfSpace{forward, -forward.dot(position + near * forward)},
+      HalfSpace{-1.0 * forward,
+                forward.dot(position + static_cast<double>(camera.frustum_far) * forward)},
       side(centre + left * right, up),
       side(centre + right_edge * right, up),
       side(centre + camera.frustum_bottom * up, right),
@@ -115,8 +97,7 @@ void cull_and_order_for_view(mjvScene_* scene, double aspect) {
   for (int i = 0; i < kept; ++i) {
     mjvGeom& geom = scene->geoms[i];
     const Vec3 offset = from(geom.pos) - eye;
-    geom.camdist =
-        geom.type == mjGEOM_PLANE ? 1e30F : static_cast<float>(std::sqrt(dot(offset, offset)));
+    geom.camdist = geom.type == mjGEOM_PLANE ? 1e30F : static_cast<float>(offset.norm());
   }
   for (int i = 1; i < kept; ++i) {
     if (!(scene->geoms[i].camdist < scene->geoms[i - 1].camdist)) continue;

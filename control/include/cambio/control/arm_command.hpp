@@ -19,6 +19,8 @@ enum class ArmAction : std::uint8_t {
   kReach,    ///< Servo the gripper to a point; stop on the touch sensor (or at the point).
   kGrasp,    ///< Close the gripper (until it stops on what it holds).
   kRelease,  ///< Open the gripper.
+  /// Move one arm joint (joint_rig_index) to position_rad, clamped to its limits; stops a reach.
+  kMoveJoint,
 };
 
 /// Where a reach goes.
@@ -35,6 +37,8 @@ struct ArmCommand {
   ArmSide arm = ArmSide::kNearest;
   ReachTargetKind target = ReachTargetKind::kFixation;
   std::array<double, 3> point_W_m{};  ///< kPoint: x forward, y left, z up (m).
+  int joint_rig_index = -1;           ///< kMoveJoint: the joint, rig order.
+  double position_rad = 0.0;          ///< kMoveJoint: where to.
 };
 
 /// Where one arm's reach stands.

@@ -11,6 +11,8 @@ enum class GazeAction : std::uint8_t {
   kFixate,   ///< Servo the dominant eye onto a target (visual servoing, the 30° neck rule).
   kSaccade,  ///< Jump to a target at the joints' velocity and acceleration limits, then fixate.
   kPursue,   ///< Follow what the dominant eye's fovea sees, from the SSM's motion estimate.
+  /// Move one head joint (joint_rig_index) to position_rad, clamped to its limits, then hold.
+  kMoveJoint,
 };
 
 enum class GazeTargetKind : std::uint8_t {
@@ -35,6 +37,8 @@ struct GazeCommand {
   GazeAction action = GazeAction::kHold;
   GazeTarget target;
   bool verge = true;  ///< The other eye verges on what the dominant eye fixates.
+  int joint_rig_index = -1;   ///< kMoveJoint: the joint, rig order.
+  double position_rad = 0.0;  ///< kMoveJoint: where to.
 };
 
 /// What the gaze loop believes and does, published every control cycle.

@@ -91,6 +91,8 @@ const char* gaze_action_name(control::GazeAction action) {
       return "saccade";
     case control::GazeAction::kPursue:
       return "pursue";
+    case control::GazeAction::kMoveJoint:
+      return "move_joint";
   }
   return "unknown";
 }

@@ -205,6 +205,11 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
       mode_ = Mode::kPursue;
       break;
     }
+    case GazeAction::kMoveJoint:
+      // Not carried out yet (the console's change brings it): refused and counted, holding.
+      ++rejected_commands_;
+      mode_ = Mode::kHold;
+      break;
   }
   if (mode_ != Mode::kPursue) pursuit_.stop();
   request_features();

@@ -18,12 +18,15 @@ namespace cambio::behaviour {
 /// What a behaviour sees at each step (the paper's Decision Making Module inputs). Pointers are
 /// valid during the call only; null until the first of their kind has arrived.
 struct Observation {
-  std::int64_t now_ns = 0;     ///< The run's clock.
-  double run_time_s = 0.0;     ///< Since the behaviour started.
-  const perception::SsmSummary* ssm = nullptr;     ///< Newest SSM summary.
+  std::int64_t now_ns = 0;                          ///< The run's clock.
+  double run_time_s = 0.0;                          ///< Since the behaviour started.
+  const perception::SsmSummary* ssm = nullptr;      ///< Newest SSM summary.
   const perception::SsmFrame* ssm_frame = nullptr;  ///< Newest SSM frame with its feature maps.
   const control::GazeStatus* gaze = nullptr;        ///< Newest gaze loop status.
   const control::ArmStatus* arms = nullptr;         ///< Newest arm status (none on a head rig).
+  /// The names of the SSM's feature maps: ssm_frame->maps[eye].map(level, i) is map
+  /// feature_map_names[i] (e.g. "intensity", "log@1.4", "sobel_x"; firmware_config/perception).
+  std::span<const std::string> feature_map_names;
   /// Believed joint positions (encoders), rig order, and their names.
   std::span<const double> q_believed_rig_rad;
   std::span<const std::string> joint_names;

@@ -49,7 +49,10 @@ AttentionParams AttentionParams::from(BehaviourParams& params) {
   p.settled_error_px = params.number("settled_error_px", p.settled_error_px);
   p.settle_timeout_s = params.number("settle_timeout_s", p.settle_timeout_s);
   p.border_px = params.number("border_px", p.border_px);
+  p.min_elevation_rad =
+      params.number("min_elevation_deg", p.min_elevation_rad * kDegPerRad) / kDegPerRad;
   p.min_saliency = params.number("min_saliency", p.min_saliency);
+  p.target_depth_m = params.number("target_depth_m", p.target_depth_m);
   p.max_visits = static_cast<int>(params.integer("max_visits", p.max_visits));
   require(!p.map.empty(), "map: expected a feature map's name, found ''");
   require(p.level >= -1, "level: expected a retina level >= 0, or -1 for the coarsest");
@@ -59,6 +62,10 @@ AttentionParams AttentionParams::from(BehaviourParams& params) {
   require(p.settled_error_px > 0.0, "settled_error_px: expected a value > 0");
   require(p.settle_timeout_s > 0.0, "settle_timeout_s: expected a value > 0");
   require(p.border_px >= 0.0, "border_px: expected a value >= 0");
+  require(
+      p.min_elevation_rad >= -std::numbers::pi / 2 && p.min_elevation_rad < std::numbers::pi / 2,
+      "min_elevation_deg: expected a value in [-90, 90)");
+  require(p.target_depth_m > 0.0, "target_depth_m: expected a distance > 0");
   require(p.min_saliency >= 0.0, "min_saliency: expected a value >= 0");
   require(p.max_visits >= 0, "max_visits: expected a count >= 0 (0: no limit)");
   return p;
@@ -90,8 +97,15 @@ std::vector<SalientSample> AttentionBehaviour::candidates(const Observation& obs
   const Eigen::Matrix3d& R_WC = observation.X_W_dominant_camera.linear();
   const float* a = maps.map(level, first);
   const float* b = maps.map(level, second);
-  for (int y = 0; y < maps.height(); ++y) {
-    for (int x = 0; x < maps.width(); ++x) {
+  const int w = maps.width();
+  const int h = maps.height();
+  const auto saliency_at = [&](int x, int y) {
+    const std::size_t i =
+        static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+    return sobel ? std::hypot(double{a[i]}, double{b[i]}) : std::abs(double{a[i]});
+  };
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
       // The sample's centre in level-0 pixels (Retina's level_to_source).
       const double u = geometry.origin_x_px + (x + 0.5) * geometry.scale_px - 0.5;
       const double v = geometry.origin_y_px + (y + 0.5) * geometry.scale_px - 0.5;
@@ -99,21 +113,67 @@ std::vector<SalientSample> AttentionBehaviour::candidates(const Observation& obs
           u > k.width_px - 1 - params_.border_px || v > k.height_px - 1 - params_.border_px) {
         continue;
       }
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(maps.width()) +
-                            static_cast<std::size_t>(x);
-      const double saliency =
-          sobel ? std::hypot(double{a[i]}, double{b[i]}) : std::abs(double{a[i]});
+      const double saliency = saliency_at(x, y);
       if (!(saliency > params_.min_saliency)) continue;
+      // One candidate per blob: its peak, not the samples on its flanks.
+      bool peak = true;
+      for (int dy = -1; dy <= 1 && peak; ++dy) {
+        for (int dx = -1; dx <= 1 && peak; ++dx) {
+          const int nx = x + dx;
+          const int ny = y + dy;
+          if ((dx != 0 || dy != 0) && nx >= 0 && nx < w && ny >= 0 && ny < h) {
+            peak = saliency_at(nx, ny) <= saliency;
+          }
+        }
+      }
+      if (!peak) continue;
       // Pinhole back-projection: the optical frame's ray through (u, v), then the base frame.
       const Eigen::Vector3d ray_C((u - k.principal_x_px) / k.focal_x_px,
                                   (v - k.principal_y_px) / k.focal_y_px, 1.0);
-      out.push_back({saliency, u, v, (R_WC * ray_C).normalized()});
+      const Eigen::Vector3d direction_W = (R_WC * ray_C).normalized();
+      if (std::asin(std::clamp(direction_W.z(), -1.0, 1.0)) < params_.min_elevation_rad) continue;
+      out.push_back({saliency, u, v, direction_W});
     }
   }
   std::stable_sort(out.begin(), out.end(), [](const SalientSample& l, const SalientSample& r) {
     return l.saliency > r.saliency;
   });
   return out;
+}
+
+void AttentionBehaviour::remember(const Observation& observation,
+                                  const std::vector<SalientSample>& seen) {
+  const auto& k = observation.dominant_camera->intrinsics;
+  const Eigen::Matrix3d R_CW = observation.X_W_dominant_camera.linear().transpose();
+  // In view: where a response would have been a candidate, a sample's width inside the border
+  // (a response between the last sample and the border is seen by neither).
+  const auto eye = static_cast<std::size_t>(observation.dominant_eye);
+  const int levels =
+      std::min(observation.ssm_frame->summary.levels, observation.ssm_frame->maps[eye].levels());
+  const int level = params_.level < 0 ? levels - 1 : params_.level;
+  const double margin_px =
+      params_.border_px +
+      observation.ssm_frame->summary.geometry[eye][static_cast<std::size_t>(level)].scale_px;
+  const double cos_radius = std::cos(params_.inhibition_radius_rad);
+  // What is in view now is seen afresh: an old entry there is replaced by what is seen near it,
+  // or dropped if nothing salient is there any more. Entries out of view are kept.
+  std::vector<SalientSample> kept;
+  for (const SalientSample& old : memory_) {
+    const Eigen::Vector3d d_C = R_CW * old.direction_W;
+    const double u = k.focal_x_px * d_C.x() / d_C.z() + k.principal_x_px;
+    const double v = k.focal_y_px * d_C.y() / d_C.z() + k.principal_y_px;
+    const bool in_view = d_C.z() > 0.0 && u >= margin_px && v >= margin_px &&
+                         u <= k.width_px - 1 - margin_px && v <= k.height_px - 1 - margin_px;
+    const bool seen_again = std::any_of(seen.begin(), seen.end(), [&](const SalientSample& now) {
+      return now.direction_W.dot(old.direction_W) >= cos_radius;
+    });
+    if (!in_view && !seen_again) kept.push_back(old);
+  }
+  kept.insert(kept.end(), seen.begin(), seen.end());
+  std::stable_sort(kept.begin(), kept.end(), [](const SalientSample& l, const SalientSample& r) {
+    return l.saliency > r.saliency;
+  });
+  memory_ = std::move(kept);
 }
 
 bool AttentionBehaviour::inhibited(const Eigen::Vector3d& direction_W) const {
@@ -133,6 +193,7 @@ void AttentionBehaviour::start(const Observation& observation, Actions& actions)
 void AttentionBehaviour::choose(const Observation& observation, Actions& actions) {
   // The map must show the scene as seen since the gaze landed (not mid-saccade).
   if (observation.ssm_frame == nullptr || observation.gaze == nullptr ||
+      observation.dominant_camera == nullptr ||
       observation.ssm_frame->summary.stamp_ns < landed_ns_) {
     return;
   }
@@ -141,14 +202,22 @@ void AttentionBehaviour::choose(const Observation& observation, Actions& actions
     done_reason_ = "made its " + std::to_string(params_.max_visits) + " visits";
     return;
   }
-  for (const SalientSample& candidate : candidates(observation)) {
-    if (inhibited(candidate.direction_W)) continue;
-    const ActionResult sent = actions.saccade_to_pixel(candidate.u_px, candidate.v_px);
+  remember(observation, candidates(observation));
+  // The most salient direction remembered that has not been visited: in view or seen before.
+  const auto best = std::find_if(memory_.begin(), memory_.end(), [&](const SalientSample& seen) {
+    return !inhibited(seen.direction_W);
+  });
+  if (best != memory_.end()) {
+    const SalientSample target = *best;
+    // A point on the ray from the eye's optical centre: the eye turns onto the direction
+    // whatever the depth (the other eye verges from its disparity).
+    const Eigen::Vector3d p_W =
+        observation.X_W_dominant_camera.translation() + params_.target_depth_m * target.direction_W;
+    const ActionResult sent = actions.saccade_to_point(p_W);
     // Visited once chosen: a target the saccade cannot reach is not chosen again and again.
-    visited_W_.push_back(candidate.direction_W);
+    visited_W_.push_back(target.direction_W);
     if (!sent.sent) {
-      last_ = "could not saccade to (" + std::to_string(static_cast<int>(candidate.u_px)) + ", " +
-              std::to_string(static_cast<int>(candidate.v_px)) + "): " + sent.message;
+      last_ = "could not saccade " + describe_direction(target.direction_W) + ": " + sent.message;
       return;
     }
     ++saccades_;
@@ -156,10 +225,9 @@ void AttentionBehaviour::choose(const Observation& observation, Actions& actions
     sent_ns_ = observation.now_ns;
     timed_out_ = false;
     phase_ = Phase::kSaccading;
-    char text[96];
-    std::snprintf(text, sizeof(text), "saccade %d to pixel (%.0f, %.0f), saliency %.3g, ",
-                  saccades_, candidate.u_px, candidate.v_px, candidate.saliency);
-    last_ = text + describe_direction(candidate.direction_W);
+    char text[64];
+    std::snprintf(text, sizeof(text), "saccade %d, saliency %.3g, to ", saccades_, target.saliency);
+    last_ = text + describe_direction(target.direction_W);
     return;
   }
   phase_ = Phase::kDone;
@@ -200,7 +268,8 @@ void AttentionBehaviour::step(const Observation& observation, Actions& actions) 
 
 std::string AttentionBehaviour::status() const {
   std::string line = "attention: " + std::to_string(saccades_) + " saccades, " +
-                     std::to_string(visited_W_.size()) + " directions visited; ";
+                     std::to_string(visited_W_.size()) + " directions visited, " +
+                     std::to_string(memory_.size()) + " remembered; ";
   switch (phase_) {
     case Phase::kChoosing:
       line += "choosing; last: " + last_;

@@ -21,18 +21,19 @@ struct Peak {
   float saliency;
 };
 
-// Records saccades; the test's world carries them out.
+// Records saccades (the directions from the eye, at the origin); the test's world carries them
+// out.
 class RecordingActions final : public Actions {
  public:
-  std::vector<std::array<double, 2>> saccades;
+  std::vector<Eigen::Vector3d> saccades;
   int holds = 0;
   ActionResult look_at_pixel(double, double) override { return {}; }
   ActionResult look_at_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_to_pixel(double u_px, double v_px) override {
-    saccades.push_back({u_px, v_px});
+  ActionResult saccade_to_pixel(double, double) override { return {}; }
+  ActionResult saccade_to_point(const Eigen::Vector3d& p_W_m) override {
+    saccades.push_back(p_W_m.normalized());
     return {true, ""};
   }
-  ActionResult saccade_to_point(const Eigen::Vector3d&) override { return {}; }
   ActionResult saccade_by_angles(double, double) override { return {}; }
   ActionResult pursue() override { return {}; }
   ActionResult hold() override {
@@ -100,9 +101,9 @@ class SyntheticWorld {
     return observation_;
   }
 
-  // The head turns the eye onto the pixel at once (a saccade that lands in one step).
-  void saccade_to(double u, double v) {
-    const Eigen::Vector3d ray_C = X_WC_.linear().transpose() * ray(u, v);
+  // The head turns the eye onto the direction at once (a saccade that lands in one step).
+  void saccade_to(const Eigen::Vector3d& direction_W) {
+    const Eigen::Vector3d ray_C = X_WC_.linear().transpose() * direction_W;
     X_WC_.linear() =
         X_WC_.linear() *
         Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray_C).toRotationMatrix();
@@ -149,9 +150,8 @@ TEST(AttentionBehaviourTest, VisitsPeaksInDescendingSaliencyAndNeverInsideTheInh
     const std::size_t before = actions.saccades.size();
     attention.step(world.observe(now_ns), actions);
     if (actions.saccades.size() > before) {
-      const auto [u, v] = actions.saccades.back();
-      visited.push_back(world.ray(u, v));
-      world.saccade_to(u, v);
+      visited.push_back(actions.saccades.back());
+      world.saccade_to(actions.saccades.back());
     }
   }
   ASSERT_EQ(visited.size(), expected.size()) << attention.status();
@@ -187,13 +187,35 @@ TEST(AttentionBehaviourTest, DwellsAfterLandingBeforeTheNextChoice) {
     attention.step(world.observe(now_ns), actions);
     if (actions.saccades.size() > before) {
       saccade_times_s.push_back(static_cast<double>(now_ns) * 1e-9);
-      world.saccade_to(actions.saccades.back()[0], actions.saccades.back()[1]);
+      world.saccade_to(actions.saccades.back());
     }
   }
   ASSERT_EQ(saccade_times_s.size(), 2u);
   // Sent at 0.1 s, landed (seen) at 0.2 s, dwelt 0.5 s: the next at 0.7 s.
   EXPECT_NEAR(saccade_times_s[0], 0.1, 1e-9);
   EXPECT_NEAR(saccade_times_s[1], 0.7, 1e-9);
+}
+
+TEST(AttentionBehaviourTest, RemembersWhatItSawAndGoesBackOnceItIsOutOfView) {
+  SyntheticWorld world;
+  // 26 deg either side: from one, the other lies 52 deg away, beyond the 32 deg half-field.
+  const Eigen::Vector3d left_W = world.ray(60, 240);
+  const Eigen::Vector3d right_W = world.ray(580, 240);
+  world.add_peak_at_pixel(60, 240, 9.0f);
+  world.add_peak_at_pixel(580, 240, 7.0f);
+  AttentionBehaviour attention(AttentionParams{});
+  RecordingActions actions;
+  std::int64_t now_ns = 0;
+  attention.start(world.observe(now_ns), actions);
+  for (int step = 0; step < 40; ++step) {
+    now_ns += 100'000'000;
+    const std::size_t before = actions.saccades.size();
+    attention.step(world.observe(now_ns), actions);
+    if (actions.saccades.size() > before) world.saccade_to(actions.saccades.back());
+  }
+  ASSERT_EQ(actions.saccades.size(), 2u) << attention.status();
+  EXPECT_LT(angle_between(actions.saccades[0], left_W), 3.3 * kDeg);
+  EXPECT_LT(angle_between(actions.saccades[1], right_W), 3.3 * kDeg);
 }
 
 TEST(AttentionBehaviourTest, AnUnknownMapIsAnErrorNamingTheMapsThereAre) {

@@ -43,7 +43,7 @@ TEST(PluginLibrariesTest, APluginRegistersIntoTheProgramsRegistryAndItsBehaviour
   BehaviourRegistry registry;
   registry.add("builtin", [](BehaviourParams&) -> std::unique_ptr<Behaviour> { return nullptr; });
   plugins.load(CAMBIO_TEST_PLUGIN, registry);
-  EXPECT_EQ(registry.names(), (std::vector<std::string>{"builtin", "counting"}));
+  EXPECT_EQ(registry.names(), (std::vector<std::string>{"builtin", "counting", "failing"}));
   BehaviourParams params({{"every", {"3", "e.yaml:9"}}});
   {
     auto behaviour = registry.make("counting", params);

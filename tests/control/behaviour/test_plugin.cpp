@@ -1,4 +1,5 @@
 // A behaviour plugin as an outside project writes one, built three ways (CMakeLists.txt):
+// (the good one also serves tests/apps/behaviour_experiments_test.cpp)
 // a good one, one built for another ABI version, one whose registration throws.
 #include "cambio/behaviour/registry.hpp"
 
@@ -15,6 +16,18 @@ class Counting final : public cambio::behaviour::Behaviour {
  private:
   int every_;
   int steps_ = 0;
+};
+
+// Throws from its step() once it has run `steps` of them (the program stops it).
+class Failing final : public cambio::behaviour::Behaviour {
+ public:
+  explicit Failing(int steps) : steps_(steps) {}
+  void step(const cambio::behaviour::Observation&, cambio::behaviour::Actions&) override {
+    if (--steps_ < 0) throw std::runtime_error("the test plugin's behaviour failed on purpose");
+  }
+
+ private:
+  int steps_;
 };
 
 }  // namespace
@@ -34,6 +47,9 @@ CAMBIO_BEHAVIOUR_PLUGIN(registry) {
 #else
   registry.add("counting", [](cambio::behaviour::BehaviourParams& params) {
     return std::make_unique<Counting>(static_cast<int>(params.integer("every", 2)));
+  });
+  registry.add("failing", [](cambio::behaviour::BehaviourParams& params) {
+    return std::make_unique<Failing>(static_cast<int>(params.integer("steps", 3)));
   });
 #endif
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,15 @@ struct AttentionParams {
   /// Samples whose centre lies closer than this to the image's edge are not candidates (their
   /// operators see the image's replicated border).
   double border_px = 24.0;
+  /// Directions below this elevation in the base frame are not candidates: the robot's own arms
+  /// and grippers lie there, as salient as anything (-pi/2: none excluded).
+  double min_elevation_rad = -std::numbers::pi / 2;
   /// Responses at or below this are not worth a look.
   double min_saliency = 0.0;
+  /// Where on a chosen direction the saccade's target point is put (m): the dominant eye turns
+  /// onto the direction whatever it is; the other eye starts verged there and corrects from
+  /// its disparity.
+  double target_depth_m = 1.5;
   /// Stop after this many saccades (0: never).
   int max_visits = 0;
 
@@ -48,12 +56,15 @@ struct SalientSample {
 
 /// An attention system (the paper's future work): scans the scene by saccading to the most
 /// salient retina response it has not visited yet. Saliency is the magnitude of one feature map
-/// on one retina level of the dominant eye; each sample's centre (LevelGeometry) becomes a
-/// direction in the base frame through the eye's intrinsics and believed pose. Directions within
-/// inhibition_radius of one visited before are suppressed (inhibition of return in the world,
-/// so a target stays visited whatever the head does). After a saccade lands (GazeStatus: no
-/// saccade, image error <= settled_error_px) it dwells dwell_s, then chooses again from a frame
-/// taken after it landed. The direction it starts looking in counts as visited.
+/// on one retina level of the dominant eye; each local maximum's sample centre (LevelGeometry)
+/// becomes a direction in the base frame through the eye's intrinsics and believed pose.
+/// Directions within inhibition_radius of one visited before are suppressed (inhibition of
+/// return in the world, so a target stays visited whatever the head does). What it has seen is
+/// remembered by direction, so a response seen from an earlier view and now out of the field is
+/// still a candidate; what is in view is seen afresh each time. After a saccade lands
+/// (GazeStatus: no saccade, image error <= settled_error_px) it dwells dwell_s, then chooses
+/// again from a frame taken after it landed. The direction it starts looking in counts as
+/// visited. Made for a still scene: remembered directions do not follow moving objects.
 class AttentionBehaviour final : public Behaviour {
  public:
   explicit AttentionBehaviour(AttentionParams params);
@@ -62,7 +73,8 @@ class AttentionBehaviour final : public Behaviour {
   void step(const Observation& observation, Actions& actions) override;
   std::string status() const override;
 
-  /// The candidates of one observation, most salient first, not yet filtered by inhibition.
+  /// The candidates of one observation (local maxima of the saliency), most salient first, not
+  /// yet filtered by inhibition.
   /// Throws std::invalid_argument when the map is not among the observation's feature maps.
   std::vector<SalientSample> candidates(const Observation& observation) const;
   /// The directions visited (the start's first), base frame.
@@ -73,11 +85,14 @@ class AttentionBehaviour final : public Behaviour {
   enum class Phase : std::uint8_t { kChoosing, kSaccading, kDwelling, kDone };
 
   bool inhibited(const Eigen::Vector3d& direction_W) const;
+  /// Merges what one observation shows (`seen`, most salient first) into memory_.
+  void remember(const Observation& observation, const std::vector<SalientSample>& seen);
   void choose(const Observation& observation, Actions& actions);
 
   AttentionParams params_;
   Phase phase_ = Phase::kChoosing;
   std::vector<Eigen::Vector3d> visited_W_;
+  std::vector<SalientSample> memory_;  // Most salient first.
   int saccades_ = 0;
   std::uint64_t applied_before_ = 0;  // GazeStatus::commands_applied when the saccade was sent.
   std::int64_t sent_ns_ = 0;

@@ -30,6 +30,11 @@ constexpr Syntax kCommands[] = {
     {"pursue", "pursue", "follow what the dominant eye's fovea sees move"},
     {"hold", "hold", "keep the head where it is commanded now"},
     {"verge", "verge on|off", "the other eye verges on what the dominant eye fixates, or not"},
+    {"reach", "reach [fixation | point X Y Z] [left|right]",
+     "reach what the head fixates (stereo estimate) or a point with the nearer arm, or the one "
+     "named; it stops on its touch sensor"},
+    {"grasp", "grasp [left|right]", "close the named arm's gripper, or both"},
+    {"release", "release [left|right]", "open the named arm's gripper, or both"},
     {"ssm", "ssm [save DIR]", "print the SSM's features at the foveas; save the maps as PNG"},
 };
 
@@ -155,6 +160,16 @@ class Parser {
     return t;
   }
 
+  // An optional trailing arm name.
+  Arm arm() {
+    if (next_ >= words_.size()) return Arm::kNearest;
+    const std::string& side = word("left or right");
+    if (side == "left") return Arm::kLeft;
+    if (side == "right") return Arm::kRight;
+    if (side == "nearest") return Arm::kNearest;
+    fail("left, right or nothing, found \"" + side + "\"");
+  }
+
   Command parse_command(const std::string& name) {
     next_ = 1;
     if (name == "help") {
@@ -184,6 +199,21 @@ class Parser {
       if (state != "on" && state != "off") fail("on or off, found \"" + state + "\"");
       return Verge{state == "on"};
     }
+    if (name == "reach") {
+      Reach reach;
+      if (next_ < words_.size() && words_[next_] == "point") {
+        ++next_;
+        reach.fixation = false;
+        reach.point[0] = number_word("X (m)");
+        reach.point[1] = number_word("Y (m)");
+        reach.point[2] = number_word("Z (m)");
+      } else if (next_ < words_.size() && words_[next_] == "fixation") {
+        ++next_;
+      }
+      reach.arm = arm();
+      return reach;
+    }
+    if (name == "grasp" || name == "release") return Gripper{name == "grasp", arm()};
     // ssm
     Ssm ssm;
     if (next_ < words_.size()) {

@@ -48,13 +48,26 @@ struct Hold {};
 struct Verge {
   bool on = true;
 };
+enum class Arm { kNearest, kLeft, kRight };
+/// Reach with an arm (the nearer by default) what the head fixates, or a point; the arm stops on
+/// its touch sensor.
+struct Reach {
+  bool fixation = true;            ///< False: `point`.
+  std::array<double, 3> point{};  ///< x, y, z (m), base frame.
+  Arm arm = Arm::kNearest;
+};
+/// Close (grasp) or open (release) a gripper.
+struct Gripper {
+  bool close = true;
+  Arm arm = Arm::kNearest;
+};
 /// Request SSM features and print them; with a directory, also save the maps as PNG.
 struct Ssm {
   std::string save_directory;
 };
 
-using Command =
-    std::variant<Help, Quit, Status, Wait, MoveJoint, Look, Saccade, Pursue, Hold, Verge, Ssm>;
+using Command = std::variant<Help, Quit, Status, Wait, MoveJoint, Look, Saccade, Pursue, Hold,
+                             Verge, Reach, Gripper, Ssm>;
 
 /// A line that is not a command: what was expected, and where (the word, 1-based).
 struct ParseError {

@@ -91,6 +91,10 @@ const char* gaze_action_name(control::GazeAction action) {
       return "saccade";
     case control::GazeAction::kPursue:
       return "pursue";
+    case control::GazeAction::kMoveJoint:
+      return "move_joint";
+    case control::GazeAction::kVerge:
+      return "verge";  // Never a status's action: a verge command keeps the action going.
   }
   return "unknown";
 }

@@ -168,6 +168,12 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
 }
 
 void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
+  if (command.action == GazeAction::kVerge) {
+    verge_ = command.verge;
+    verged_ = false;
+    ++status_.commands_applied;
+    return;
+  }
   command_ = command;
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
@@ -205,9 +211,33 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
       mode_ = Mode::kPursue;
       break;
     }
+    case GazeAction::kMoveJoint:
+      mode_ = Mode::kHold;
+      if (!move_joint(command.joint_rig_index, command.position_rad)) ++rejected_commands_;
+      break;
+    case GazeAction::kVerge:
+      break;  // Handled above.
   }
   if (mode_ != Mode::kPursue) pursuit_.stop();
   request_features();
+}
+
+bool GazeLoop::move_joint(int rig_index, double position_rad) noexcept {
+  if (rig_index < 0 || rig_index >= pose_.count || !std::isfinite(position_rad)) return false;
+  const int joint = rig_to_tree_[at(rig_index)];
+  const bool head_joint = joint == head_.neck_pan || joint == head_.neck_tilt ||
+                          joint == head_.eye_tilt || joint == head_.eye_pan[0] ||
+                          joint == head_.eye_pan[1];
+  if (!head_joint) return false;  // The arms' joints are the arm loop's.
+  const hal::JointLimits& limits = limits_tree_[at(joint)];
+  q_command_tree_[at(joint)] =
+      std::clamp(position_rad, limits.min_position_rad, limits.max_position_rad);
+  // The verging eye keeps the vergence this move gives it (place_verging_eye() would undo it).
+  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
+  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
+  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
+  vergence_rad_ = sign * (q_command_tree_[verging_pan] - q_command_tree_[dominant_pan]);
+  return true;
 }
 
 bool GazeLoop::resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept {

@@ -59,6 +59,18 @@ TEST(ConsoleCommand, EveryCommandParses) {
   EXPECT_TRUE(std::get<Ssm>(ok("ssm")).save_directory.empty());
   EXPECT_EQ(std::get<Ssm>(ok("ssm save out/maps")).save_directory, "out/maps");
   EXPECT_EQ(std::get<Help>(ok("help saccade")).topic, "saccade");
+  const auto reach = std::get<Reach>(ok("reach"));
+  EXPECT_TRUE(reach.fixation);
+  EXPECT_EQ(reach.arm, Arm::kNearest);
+  EXPECT_EQ(std::get<Reach>(ok("reach fixation right")).arm, Arm::kRight);
+  const auto reach_point = std::get<Reach>(ok("reach point 0.5 0.1 0.9 left"));
+  EXPECT_FALSE(reach_point.fixation);
+  EXPECT_DOUBLE_EQ(reach_point.point[2], 0.9);
+  EXPECT_EQ(reach_point.arm, Arm::kLeft);
+  EXPECT_TRUE(std::get<Gripper>(ok("grasp")).close);
+  const auto release = std::get<Gripper>(ok("release right"));
+  EXPECT_FALSE(release.close);
+  EXPECT_EQ(release.arm, Arm::kRight);
 }
 
 TEST(ConsoleCommand, AnUnknownCommandSuggestsTheNearest) {
@@ -81,13 +93,17 @@ TEST(ConsoleCommand, BadArgumentsSayWhatWasExpected) {
   EXPECT_NE(error("wait nan").find("found \"nan\""), std::string::npos);
   EXPECT_NE(error("wait inf").find("found \"inf\""), std::string::npos);
   EXPECT_NE(error("ssm keep x").find("nothing or save DIR"), std::string::npos);
+  EXPECT_NE(error("reach point 0.5 0.1").find("expected Z (m)"), std::string::npos);
+  EXPECT_NE(error("grasp both").find("left, right or nothing, found \"both\""),
+            std::string::npos);
+  EXPECT_NE(error("reach up").find("left, right or nothing, found \"up\""), std::string::npos);
 }
 
 TEST(ConsoleCommand, HelpListsEveryCommand) {
   const auto lines = help_lines();
-  EXPECT_EQ(lines.size(), 11U);
+  EXPECT_EQ(lines.size(), 14U);
   for (const char* name : {"help", "quit", "status", "wait", "move", "look", "saccade", "pursue",
-                           "hold", "verge", "ssm"}) {
+                           "hold", "verge", "reach", "grasp", "release", "ssm"}) {
     bool found = false;
     for (const auto& line : lines) found = found || line.rfind(name, 0) == 0;
     EXPECT_TRUE(found) << name;

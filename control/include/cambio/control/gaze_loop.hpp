@@ -105,6 +105,9 @@ class GazeLoop final : public hal::Loop {
 
   void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
   bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
+  /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
+  /// not the head's or a position that is not finite.
+  bool move_joint(int rig_index, double position_rad) noexcept;
   void start_saccade(std::int64_t now_ns) noexcept;
   void servo_step(double gain_scale, double dt_s) noexcept;
   void verge(const perception::SsmSummary& summary) noexcept;

@@ -38,7 +38,7 @@ struct GazeCommand {
   std::uint64_t sequence = 0;
   GazeAction action = GazeAction::kHold;
   GazeTarget target;
-  bool verge = true;  ///< The other eye verges on what the dominant eye fixates.
+  bool verge = true;          ///< The other eye verges on what the dominant eye fixates.
   int joint_rig_index = -1;   ///< kMoveJoint: the joint, rig order.
   double position_rad = 0.0;  ///< kMoveJoint: where to.
 };

@@ -18,9 +18,9 @@ namespace cambio::behaviour {
 /// What a behaviour sees at each step (the paper's Decision Making Module inputs). Pointers are
 /// valid during the call only; null until the first of their kind has arrived.
 struct Observation {
-  std::int64_t now_ns = 0;     ///< The run's clock.
-  double run_time_s = 0.0;     ///< Since the behaviour started.
-  const perception::SsmSummary* ssm = nullptr;     ///< Newest SSM summary.
+  std::int64_t now_ns = 0;                          ///< The run's clock.
+  double run_time_s = 0.0;                          ///< Since the behaviour started.
+  const perception::SsmSummary* ssm = nullptr;      ///< Newest SSM summary.
   const perception::SsmFrame* ssm_frame = nullptr;  ///< Newest SSM frame with its feature maps.
   const control::GazeStatus* gaze = nullptr;        ///< Newest gaze loop status.
   const control::ArmStatus* arms = nullptr;         ///< Newest arm status (none on a head rig).

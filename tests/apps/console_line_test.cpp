@@ -1,6 +1,6 @@
 // The console's command lines: every command, and every class of bad line refused with what was
 // expected (a bad line never stops a run).
-#include "console_command.hpp"
+#include "console_line.hpp"
 
 #include <numbers>
 
@@ -94,8 +94,7 @@ TEST(ConsoleCommand, BadArgumentsSayWhatWasExpected) {
   EXPECT_NE(error("wait inf").find("found \"inf\""), std::string::npos);
   EXPECT_NE(error("ssm keep x").find("nothing or save DIR"), std::string::npos);
   EXPECT_NE(error("reach point 0.5 0.1").find("expected Z (m)"), std::string::npos);
-  EXPECT_NE(error("grasp both").find("left, right or nothing, found \"both\""),
-            std::string::npos);
+  EXPECT_NE(error("grasp both").find("left, right or nothing, found \"both\""), std::string::npos);
   EXPECT_NE(error("reach up").find("left, right or nothing, found \"up\""), std::string::npos);
 }
 

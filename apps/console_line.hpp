@@ -52,7 +52,7 @@ enum class Arm { kNearest, kLeft, kRight };
 /// Reach with an arm (the nearer by default) what the head fixates, or a point; the arm stops on
 /// its touch sensor.
 struct Reach {
-  bool fixation = true;            ///< False: `point`.
+  bool fixation = true;           ///< False: `point`.
   std::array<double, 3> point{};  ///< x, y, z (m), base frame.
   Arm arm = Arm::kNearest;
 };

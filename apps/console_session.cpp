@@ -260,12 +260,7 @@ void ConsoleSession::print_ssm(const std::string& save_directory) {
     for (int eye = 0; eye < 2; ++eye) {
       for (int k = 0; k < frame.summary.levels; ++k) {
         for (std::size_t i = 0; i < specs.size(); ++i) {
-          // Derivatives are signed (grey = 0); intensity, g0, averages and masks stretch.
-          const perception::MapKind kind = specs[i].kind;
-          const bool signed_map = (kind == perception::MapKind::kGaussian && specs[i].order > 0) ||
-                                  kind == perception::MapKind::kLaplacian ||
-                                  kind == perception::MapKind::kSobelX ||
-                                  kind == perception::MapKind::kSobelY;
+          const bool signed_map = is_signed_map(specs[i]);
           const cv::Mat tile = feature_map_tile(
               frame.maps[static_cast<std::size_t>(eye)].map(k, static_cast<int>(i)), w, h,
               signed_map, w, h);

@@ -8,6 +8,22 @@
 
 namespace cambio::app {
 
+bool is_signed_map(const perception::MapSpec& spec) {
+  switch (spec.kind) {
+    case perception::MapKind::kGaussian:
+      return spec.order > 0;
+    case perception::MapKind::kLaplacian:
+    case perception::MapKind::kSobelX:
+    case perception::MapKind::kSobelY:
+      return true;
+    case perception::MapKind::kIntensity:
+    case perception::MapKind::kAverage:
+    case perception::MapKind::kUserMask:
+      break;
+  }
+  return false;
+}
+
 cv::Mat feature_map_tile(const float* map, int width, int height, bool signed_map, int tile_w,
                          int tile_h) {
   cv::Mat tile(height, width, CV_8U);

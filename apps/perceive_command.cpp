@@ -174,9 +174,10 @@ cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::S
       label(canvas, std::string(eye == 0 ? "left" : "right") + " L" + std::to_string(k), 6, y + 16);
       label(canvas, "block " + std::to_string(g.scale_px) + " px", 6, y + 34, 0.4);
       for (std::size_t c = 0; c < columns.size(); ++c) {
-        const cv::Mat tile =
-            feature_map_tile(frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]), w, h,
-                             columns[c] == 0, tile_w, tile_h);
+        const cv::Mat tile = feature_map_tile(
+            frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]), w, h,
+            is_signed_map(servo.operators().maps()[static_cast<std::size_t>(columns[c])]), tile_w,
+            tile_h);
         cv::Mat colour;
         cv::cvtColor(tile, colour, cv::COLOR_GRAY2BGR);
         colour.copyTo(canvas(

@@ -267,7 +267,7 @@ int run_console_command(std::span<const std::string> args) {
   setup.head_joints = job->head_joint_names();
   setup.image_width_px = eye->intrinsics.width_px;
   setup.image_height_px = eye->intrinsics.height_px;
-  RobotActions actions(hardware, setup, *job->gaze_commands(), nullptr);
+  RobotActions actions(hardware, setup, {job->gaze_commands(), nullptr, job->feature_requests()});
   std::vector<std::string> objects;
   if (experiment.scene) {
     for (const auto& object : experiment.scene->objects) objects.push_back(object.name);

@@ -212,6 +212,15 @@ void ConsoleSession::print_ssm(const std::string& save_directory) {
     out_ << "refused: this rig has no stereo pair, so no SSM\n";
     return;
   }
+  if (!features_requested_) {
+    // Everything the SSM computes, from its next frame on (the gaze alone asks for disparity,
+    // and motion while pursuing).
+    const behaviour::ActionResult asked = actions_.request_features(perception::FeatureRequest{});
+    features_requested_ = asked.sent;
+    if (asked.sent) {
+      out_ << "ssm: every feature (motion, moments, all maps) requested from now on\n";
+    }
+  }
   perception::SsmSummary s;
   if (!ssm->summaries().read(s) || s.sequence == 0) {
     out_ << "ssm: no frame processed yet (wait a little)\n";

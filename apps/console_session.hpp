@@ -48,6 +48,7 @@ class ConsoleSession {
   control::BelievedJoints believed_;
   std::vector<double> q_believed_rig_;
   std::uint64_t lines_refused_ = 0;
+  bool features_requested_ = false;
 };
 
 }  // namespace cambio::app

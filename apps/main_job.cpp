@@ -174,6 +174,7 @@ void MainJob::build_loops() {
         control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
         perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
     gaze_loop_ = loop.get();
+    gaze_loop_->set_extra_features(&feature_requests_);
     control_loop_ = std::move(loop);
     // The script runs at the control rate, before the gaze loop in each lockstep tick.
     if (options_.send_script) {

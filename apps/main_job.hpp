@@ -107,6 +107,11 @@ class MainJob {
     return gaze_loop_ != nullptr ? &gaze_commands_ : nullptr;
   }
   const control::GazeLoop* gaze_loop() const { return gaze_loop_; }
+  /// Features the decision layer asks of the SSM besides the gaze's (one writer); null unless
+  /// the task is gaze.
+  hal::SeqlockChannel<perception::FeatureRequest>* feature_requests() {
+    return gaze_loop_ != nullptr ? &feature_requests_ : nullptr;
+  }
   /// A reader of the joint loops' published states (the believed joints), rig order.
   control::BelievedJoints make_believed_joints() const;
   /// The rig's joints in rig order (the command frames' order).
@@ -166,6 +171,7 @@ class MainJob {
   std::unique_ptr<hal::Loop> control_loop_;
   control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
+  hal::SeqlockChannel<perception::FeatureRequest> feature_requests_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
   std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;

@@ -34,16 +34,14 @@ std::string point_text(const Eigen::Vector3d& p) {
 
 }  // namespace
 
-RobotActions::RobotActions(const hal::HardwareInfo& hardware, Setup setup,
-                           hal::SeqlockChannel<control::GazeCommand>& gaze_commands,
-                           hal::SeqlockChannel<control::ArmCommand>* arm_commands)
+RobotActions::RobotActions(const hal::HardwareInfo& hardware, Setup setup, Channels channels)
     : image_width_px_(setup.image_width_px),
       image_height_px_(setup.image_height_px),
-      gaze_commands_(gaze_commands),
-      arm_commands_(arm_commands),
+      channels_(channels),
       verge_(setup.verge),
       gaze_sequence_(kFirstSequence),
       arm_sequence_(kFirstSequence) {
+  if (channels_.gaze == nullptr) throw std::invalid_argument("robot actions: no gaze channel");
   for (const std::string& name : setup.rig_joint_order) {
     const hal::JointInfo* joint = hardware.find_joint(name);
     if (joint == nullptr) throw std::invalid_argument("robot actions: no joint '" + name + "'");
@@ -57,15 +55,15 @@ behaviour::ActionResult RobotActions::send(control::GazeCommand command) {
   std::lock_guard lock(mutex_);
   command.sequence = ++gaze_sequence_;
   if (command.action != control::GazeAction::kVerge) command.verge = verge_;
-  gaze_commands_.write(command);
+  channels_.gaze->write(command);
   return {true, {}};
 }
 
 behaviour::ActionResult RobotActions::send(control::ArmCommand command) {
-  if (arm_commands_ == nullptr) return refused("this run has no arm controller");
+  if (channels_.arms == nullptr) return refused("this run has no arm controller");
   std::lock_guard lock(mutex_);
   command.sequence = ++arm_sequence_;
-  arm_commands_->write(command);
+  channels_.arms->write(command);
   return {true, {}};
 }
 
@@ -219,6 +217,13 @@ behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, do
   }
   if (result.sent) result.message = note;
   return result;
+}
+
+behaviour::ActionResult RobotActions::request_features(const perception::FeatureRequest& features) {
+  if (channels_.features == nullptr) return refused("this run takes no feature requests");
+  std::lock_guard lock(mutex_);
+  channels_.features->write(features);
+  return {true, {}};
 }
 
 bool RobotActions::verging() const {

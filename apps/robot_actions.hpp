@@ -37,11 +37,17 @@ class RobotActions final : public behaviour::Actions {
     bool verge = true;
   };
 
-  /// `arm_commands` null: the run has no arm controller. Throws std::invalid_argument for a
-  /// joint in `setup` that `hardware` does not describe.
-  RobotActions(const hal::HardwareInfo& hardware, Setup setup,
-               hal::SeqlockChannel<control::GazeCommand>& gaze_commands,
-               hal::SeqlockChannel<control::ArmCommand>* arm_commands);
+  /// The loops' command channels; `arms` null: the run has no arm controller; `features` null:
+  /// no feature requests.
+  struct Channels {
+    hal::SeqlockChannel<control::GazeCommand>* gaze = nullptr;
+    hal::SeqlockChannel<control::ArmCommand>* arms = nullptr;
+    hal::SeqlockChannel<perception::FeatureRequest>* features = nullptr;
+  };
+
+  /// Throws std::invalid_argument for a joint in `setup` that `hardware` does not describe, or
+  /// no gaze channel.
+  RobotActions(const hal::HardwareInfo& hardware, Setup setup, Channels channels);
 
   behaviour::ActionResult look_at_pixel(double u_px, double v_px) override;
   behaviour::ActionResult look_at_point(const Eigen::Vector3d& p_W_m) override;
@@ -56,6 +62,7 @@ class RobotActions final : public behaviour::Actions {
   behaviour::ActionResult grasp(control::ArmSide arm) override;
   behaviour::ActionResult release(control::ArmSide arm) override;
   behaviour::ActionResult move_joint(std::string_view joint_name, double position_rad) override;
+  behaviour::ActionResult request_features(const perception::FeatureRequest& features) override;
 
   bool verging() const;
   /// Commands sent so far on each channel.
@@ -77,8 +84,7 @@ class RobotActions final : public behaviour::Actions {
   std::vector<Joint> joints_;  // Rig order.
   int image_width_px_ = 0;
   int image_height_px_ = 0;
-  hal::SeqlockChannel<control::GazeCommand>& gaze_commands_;
-  hal::SeqlockChannel<control::ArmCommand>* arm_commands_;
+  Channels channels_;
   mutable std::mutex mutex_;
   bool verge_ = true;
   std::uint64_t gaze_sequence_ = 0;

@@ -108,6 +108,15 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     apply(command, now_ns);
   }
   update_belief(now_ns);
+  if (extra_features_channel_ != nullptr) {
+    perception::FeatureRequest extra;
+    if (extra_features_channel_->read(extra) &&
+        (extra.maps != extra_features_.maps || extra.disparity != extra_features_.disparity ||
+         extra.motion != extra_features_.motion || extra.moments != extra_features_.moments)) {
+      extra_features_ = extra;
+      request_features();
+    }
+  }
 
   (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
   const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
@@ -459,10 +468,10 @@ void GazeLoop::publish(std::int64_t now_ns) noexcept {
 
 void GazeLoop::request_features() noexcept {
   request_.fixation_set = false;  // Both retinas on their image centres: the eyes' axes.
-  request_.features.maps = perception::kAllMaps;
+  request_.features.maps = perception::kAllMaps | extra_features_.maps;
   request_.features.disparity = true;
-  request_.features.motion = mode_ == Mode::kPursue;
-  request_.features.moments = false;
+  request_.features.motion = mode_ == Mode::kPursue || extra_features_.motion;
+  request_.features.moments = extra_features_.moments;
   ssm_requests_.write(request_);
 }
 

@@ -108,7 +108,8 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     apply(command, now_ns);
   }
   update_belief(now_ns);
-  if (extra_features_channel_ != nullptr) {
+  // An unwritten channel holds FeatureRequest{} (everything): nobody asked for it yet.
+  if (extra_features_channel_ != nullptr && extra_features_channel_->version() > 0) {
     perception::FeatureRequest extra;
     if (extra_features_channel_->read(extra) &&
         (extra.maps != extra_features_.maps || extra.disparity != extra_features_.disparity ||

@@ -155,5 +155,20 @@ TEST_F(ConsoleTest, SsmSaveWritesEveryMapOfBothEyesAsPng) {
   EXPECT_TRUE(fs::exists(maps / "left_L0_intensity.png"));
 }
 
+TEST_F(ConsoleTest, OnTheRealtimeExecutorTheLoopsRunOnTheirThreadsAndWaitSleeps) {
+  const CommandResult r = console(
+      "saccade point 1.0 0.14 1.40\n"
+      "wait 2.0\n"  // Wall seconds: room for a slow (sanitized, shared) machine.
+      "status\n"
+      "quit\n",
+      "--set experiment.executor=realtime");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("realtime executor"), std::string::npos) << r.output;
+  const std::vector<double> p = believed_fixation(r.output);
+  ASSERT_EQ(p.size(), 3U) << r.output;
+  EXPECT_NEAR(std::hypot(p[0] - kSphereX, p[1] - kSphereY, p[2] - kSphereZ), kSphereRadius, 0.03)
+      << r.output;
+}
+
 }  // namespace
 }  // namespace cambio

@@ -50,6 +50,16 @@ ConsoleSession::ConsoleSession(MainJob& job, RobotActions& actions,
       q_believed_rig_(job.joint_order().size(), 0.0) {}
 
 ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64_t now_ns) {
+  // What the gaze loop refused since the last line (it checks what the console cannot: a target
+  // behind the eye, a saccade the joints cannot make, a joint that is not the head's).
+  if (const control::GazeLoop* gaze_loop = job_.gaze_loop()) {
+    const std::uint64_t rejected = gaze_loop->rejected_commands();
+    if (rejected > gaze_rejections_seen_) {
+      out_ << "note: the gaze loop could not carry out " << rejected - gaze_rejections_seen_
+           << " command(s): a target behind the eye, or beyond the joints' reach\n";
+    }
+    gaze_rejections_seen_ = rejected;
+  }
   const auto parsed = console::parse(line);
   if (!parsed) return {};
   if (const auto* error = std::get_if<console::ParseError>(&*parsed)) {

@@ -49,6 +49,7 @@ class ConsoleSession {
   std::vector<double> q_believed_rig_;
   std::uint64_t lines_refused_ = 0;
   bool features_requested_ = false;
+  std::uint64_t gaze_rejections_seen_ = 0;
 };
 
 }  // namespace cambio::app

@@ -8,6 +8,7 @@ namespace cambio::app {
 int run_check_config_command(std::span<const std::string> args);
 int run_loop_bench_command(std::span<const std::string> args);
 int run_run_command(std::span<const std::string> args);
+int run_console_command(std::span<const std::string> args);
 int run_render_command(std::span<const std::string> args);
 int run_sim_bench_command(std::span<const std::string> args);
 int run_perceive_command(std::span<const std::string> args);
@@ -18,6 +19,8 @@ int run_can_bench_command(std::span<const std::string> args);
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
       Command{"run", "run an experiment (the main job)", &run_run_command},
+      Command{"console", "drive an experiment's robot with typed or piped commands",
+              &run_console_command},
       Command{"check-config", "validate a rig file and print its summary",
               &run_check_config_command},
       Command{"loop-bench", "measure loop wake-up latency on this machine",

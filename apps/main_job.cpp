@@ -16,7 +16,7 @@
 #include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
-#include "interim_gaze_actions.hpp"
+#include "robot_actions.hpp"
 
 namespace cambio::app {
 namespace {
@@ -35,8 +35,11 @@ std::size_t camera_index(const hal::HardwareInfo& hardware, const std::string& n
 
 }  // namespace
 
-MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory)
-    : experiment_(experiment), hardware_(config::hardware_description(experiment.rig)) {
+MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory,
+                 MainJobOptions options)
+    : experiment_(experiment),
+      options_(options),
+      hardware_(config::hardware_description(experiment.rig)) {
   bool on_hardware = false;
   for (const auto& group : hardware_.groups) on_hardware |= is_hardware_backend(group.backend);
   realtime_ = on_hardware || experiment_.executor == config::ExecutorKind::kRealtime;
@@ -173,10 +176,11 @@ void MainJob::build_loops() {
         control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
         perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
     gaze_loop_ = loop.get();
+    gaze_loop_->set_extra_features(&feature_requests_);
     control_loop_ = std::move(loop);
     // The script runs at the control rate, before the gaze loop in each lockstep tick. A
     // behaviour takes its place as the gaze commands' writer (the loader allows only one).
-    if (!experiment_.behaviour) {
+    if (options_.send_script && !experiment_.behaviour) {
       script_ =
           std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_);
       executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
@@ -219,9 +223,18 @@ void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
   } catch (const std::exception& error) {
     throw BehaviourSetupError(experiment_.source_file + ": behaviour: " + error.what());
   }
-  // INTERIM (interim_gaze_actions.hpp): control::RobotActions(hardware_, gaze_commands_,
-  // arm commands) replaces this once it lands.
-  actions_ = std::make_unique<InterimGazeActions>(gaze_commands_);
+  // The behaviour acts through the same actions the console uses (no arm controller yet).
+  const hal::Eye dominant = experiment_.gaze.dominant_eye;
+  const hal::CameraInfo* eye = hardware_.find_camera(
+      dominant == hal::Eye::kLeft ? hardware_.stereo->left_camera : hardware_.stereo->right_camera);
+  RobotActions::Setup setup;
+  setup.rig_joint_order = joint_order_;
+  setup.head_joints = head_joint_names();
+  setup.image_width_px = eye->intrinsics.width_px;
+  setup.image_height_px = eye->intrinsics.height_px;
+  actions_ = std::make_unique<RobotActions>(
+      hardware_, std::move(setup),
+      RobotActions::Channels{&gaze_commands_, nullptr, &feature_requests_});
 
   behaviour::BehaviourLoopSources sources;
   sources.ssm = &perception_loop_->summaries();
@@ -233,7 +246,7 @@ void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
   std::vector<control::BelievedJoints::Source> believed;
   for (const auto& slot : joint_loops_) believed.push_back({slot.states.get(), slot.rig_indices});
   behaviour_loop_ = std::make_unique<behaviour::BehaviourLoop>(
-      "behaviour", hardware_, experiment_.gaze.dominant_eye, std::move(sources),
+      "behaviour", hardware_, dominant, std::move(sources),
       control::BelievedJoints(std::move(believed), static_cast<int>(joint_order_.size())),
       *behaviour_, *actions_);
   // Decision making, not control: never at a real-time priority or pinned beside the loops.
@@ -243,7 +256,8 @@ void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
 void MainJob::build_trace() {
   // The trace needs the simulator's ground truth and something to look with.
   const auto sim = backends_.find("sim");
-  if (sim == backends_.end() || !hardware_.stereo || !perception_loop_) return;
+  if (!options_.record_trace || sim == backends_.end() || !hardware_.stereo || !perception_loop_)
+    return;
   hal::Eye dominant = hal::Eye::kLeft;
   if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
   const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
@@ -295,31 +309,93 @@ std::vector<std::string> MainJob::head_joint_names() const {
   return names;
 }
 
+namespace {
+
+// Backends are deactivated (drives quick-stopped and disabled) however a run ends.
+template <typename Backends>
+struct ActiveBackends {
+  explicit ActiveBackends(Backends& all) : backends(all) {
+    for (auto& [name, backend] : backends) backend->activate();
+  }
+  ~ActiveBackends() {
+    for (auto& [name, backend] : backends) backend->deactivate();
+  }
+  ActiveBackends(const ActiveBackends&) = delete;
+  ActiveBackends& operator=(const ActiveBackends&) = delete;
+  Backends& backends;
+};
+
+}  // namespace
+
 MainJobResult MainJob::run(const std::atomic<bool>& stop,
-                           const std::function<void(double, double)>& progress) {
+                           const std::function<void(double, double)>& progress, double duration_s) {
   MainJobResult result;
   result.realtime = realtime_;
-  const auto total_ns = static_cast<std::int64_t>(experiment_.duration_s * 1e9);
+  const double run_s = duration_s < 0.0 ? experiment_.duration_s : duration_s;
+  const auto total_ns = static_cast<std::int64_t>(run_s * 1e9);
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall_elapsed_s = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
-
-  // Backends are deactivated (drives quick-stopped and disabled) however the run ends.
-  struct DeactivateBackends {
-    decltype(backends_)& backends;
-    ~DeactivateBackends() {
-      for (auto& [name, backend] : backends) backend->deactivate();
-    }
-  } deactivate{backends_};
-  for (auto& [name, backend] : backends_) backend->activate();
-  const std::int64_t done_ns =
-      executor_->run(stop, total_ns, [&](double done_s) { progress(done_s, wall_elapsed_s()); });
-
-  result.loops = executor_->statistics();
+  std::int64_t done_ns = 0;
+  {
+    const ActiveBackends active(backends_);
+    done_ns =
+        executor_->run(stop, total_ns, [&](double done_s) { progress(done_s, wall_elapsed_s()); });
+  }
   result.simulated_s = static_cast<double>(done_ns) * 1e-9;
   result.wall_s = wall_elapsed_s();
   result.stopped_by_signal = stop.load();
+  collect(result);
+  return result;
+}
+
+MainJobResult MainJob::run_stepped(const std::atomic<bool>& stop,
+                                   const std::function<std::int64_t(std::int64_t)>& next_stop_ns) {
+  auto* lockstep = dynamic_cast<runtime::LockstepExecutor*>(executor_.get());
+  if (lockstep == nullptr) {
+    throw std::logic_error("a stepped run needs the lockstep executor");
+  }
+  MainJobResult result;
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::int64_t start_ns = lockstep->clock().now_ns();
+  {
+    const ActiveBackends active(backends_);
+    lockstep->configure();
+    // Loops are deactivated (drives stopped) even when the caller throws.
+    struct Deactivate {
+      runtime::LockstepExecutor& executor;
+      ~Deactivate() { executor.deactivate(); }
+    } deactivate{*lockstep};
+    while (!stop.load()) {
+      const std::int64_t next_ns = next_stop_ns(lockstep->clock().now_ns());
+      if (next_ns < 0) break;
+      lockstep->run_until_ns(std::max(next_ns, lockstep->clock().now_ns()));
+    }
+  }
+  result.simulated_s = static_cast<double>(lockstep->clock().now_ns() - start_ns) * 1e-9;
+  result.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  result.stopped_by_signal = stop.load();
+  collect(result);
+  return result;
+}
+
+control::BelievedJoints MainJob::make_believed_joints() const {
+  std::vector<control::BelievedJoints::Source> sources;
+  for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
+  return control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size()));
+}
+
+sim::GroundTruth* MainJob::ground_truth() {
+  const auto sim = backends_.find("sim");
+  if (sim == backends_.end()) return nullptr;
+  return &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
+}
+
+void MainJob::collect(MainJobResult& result) {
+  result.realtime = realtime_;
+  result.loops = executor_->statistics();
   result.camera_frames = camera_loop_->frames_grabbed();
   result.stereo_pairs = camera_loop_->pairs_published();
   for (const auto& joint_loop : joint_loops_) {
@@ -366,7 +442,6 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
     }
   }
   result.renderer = renderer();
-  return result;
 }
 
 std::optional<sim::RendererDescription> MainJob::renderer() const {

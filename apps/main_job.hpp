@@ -25,6 +25,7 @@
 #include "cambio/runtime/executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
+#include "cambio/sim/ground_truth.hpp"
 #include "run_trace.hpp"
 
 namespace cambio::app {
@@ -74,10 +75,19 @@ struct MainJobResult {
   std::uint64_t gaze_measurements = 0;
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
-  std::vector<CanGroupReport> can_groups;  ///< One per socketcan group.
+  std::vector<CanGroupReport> can_groups;    ///< One per socketcan group.
   std::optional<BehaviourReport> behaviour;  ///< If the experiment has one.
   /// What the sim's cameras rendered with; none when the run made no renderer.
   std::optional<sim::RendererDescription> renderer;
+};
+
+/// What a run is for: an experiment (the defaults) or the console.
+struct MainJobOptions {
+  /// Send the experiment's timed gaze commands (false: someone else, the console, commands the
+  /// gaze loop).
+  bool send_script = true;
+  /// Record the evaluation trace (believed vs true at the control rate) for metrics and plots.
+  bool record_trace = true;
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):
@@ -98,13 +108,42 @@ struct MainJobResult {
 /// deactivate), and deactivates the backends whatever happens (a signal included).
 class MainJob {
  public:
-  MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory);
+  MainJob(const config::ExperimentConfig& experiment, const hal::BackendFactory& factory,
+          MainJobOptions options = {});
   ~MainJob();
 
-  /// Runs for the experiment's duration or until `stop`; `progress(done_s, wall_s)` is called
-  /// about every 0.1 s of run time, by either executor.
+  /// Runs for `duration_s` (negative: the experiment's duration) or until `stop`;
+  /// `progress(done_s, wall_s)` is called about every 0.1 s of run time, by either executor.
   MainJobResult run(const std::atomic<bool>& stop,
-                    const std::function<void(double, double)>& progress);
+                    const std::function<void(double, double)>& progress, double duration_s = -1.0);
+
+  /// Runs under the caller's control, on the lockstep executor only (throws std::logic_error on
+  /// the realtime one): asks `next_stop_ns(now_ns)` for the clock time to run to, runs every
+  /// loop up to it, and asks again, until it returns a negative time or `stop` is set. While it
+  /// decides, no loop runs: it may read and write the loops' channels on this thread.
+  MainJobResult run_stepped(const std::atomic<bool>& stop,
+                            const std::function<std::int64_t(std::int64_t)>& next_stop_ns);
+
+  /// The gaze loop's command channel (one writer: the script, or whoever send_script=false let
+  /// command it). Null unless the task is gaze.
+  hal::SeqlockChannel<control::GazeCommand>* gaze_commands() {
+    return gaze_loop_ != nullptr ? &gaze_commands_ : nullptr;
+  }
+  const control::GazeLoop* gaze_loop() const { return gaze_loop_; }
+  /// Features the decision layer asks of the SSM besides the gaze's (one writer); null unless
+  /// the task is gaze.
+  hal::SeqlockChannel<perception::FeatureRequest>* feature_requests() {
+    return gaze_loop_ != nullptr ? &feature_requests_ : nullptr;
+  }
+  /// A reader of the joint loops' published states (the believed joints), rig order.
+  control::BelievedJoints make_believed_joints() const;
+  /// The rig's joints in rig order (the command frames' order).
+  const std::vector<std::string>& joint_order() const { return joint_order_; }
+  const hal::HardwareInfo& hardware() const { return hardware_; }
+  /// The simulator's ground truth; null when the rig has no sim backend.
+  sim::GroundTruth* ground_truth();
+  /// The SSM loop; null when the rig has no stereo pair.
+  perception::SsmServer* perception() { return perception_loop_.get(); }
 
   /// The newest frame of each camera (rig order), for --out, after run(); sequence 0 if none
   /// arrived. A foveated sim eye (config::SimFoveationConfig) is rendered whole instead, at the
@@ -127,9 +166,11 @@ class MainJob {
   void build_loops();
   void build_trace();
   void build_behaviour(const perception::SsmConfig& ssm);
+  void collect(MainJobResult& result);
   int joint_index(const std::string& joint_name) const;
 
   config::ExperimentConfig experiment_;
+  MainJobOptions options_;
   hal::HardwareInfo hardware_;
   // The executor owns the clock the backends hold: it is destroyed last.
   std::unique_ptr<runtime::Executor> executor_;
@@ -154,6 +195,7 @@ class MainJob {
   std::unique_ptr<hal::Loop> control_loop_;
   control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
+  hal::SeqlockChannel<perception::FeatureRequest> feature_requests_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
   std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
@@ -164,7 +206,7 @@ class MainJob {
   std::unique_ptr<behaviour::PluginLibraries> plugins_;
   std::unique_ptr<behaviour::BehaviourRegistry> registry_;
   std::unique_ptr<behaviour::Behaviour> behaviour_;
-  std::unique_ptr<behaviour::Actions> actions_;
+  std::unique_ptr<behaviour::Actions> actions_;  // RobotActions on this run's channels.
   std::unique_ptr<behaviour::BehaviourLoop> behaviour_loop_;
 };
 

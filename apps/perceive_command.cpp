@@ -21,6 +21,7 @@
 #include "cambio/perception/sensory_servo.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "feature_map_image.hpp"
 #include "image_files.hpp"
 #include "json_output.hpp"
 #include "output_directory.hpp"
@@ -91,34 +92,6 @@ Json level_json(const perception::SsmSummary& s, int k, const std::string& momen
           {"fraction_inside_left", six_digits(g.fraction_inside)},
           {"disparity", disparity},
           {"moments", moments}};
-}
-
-/// Derivative-like maps as grey with 128 at zero and +-127 at the map's largest magnitude;
-/// smoothing-like maps (intensity, averages, g0) stretched from their minimum to maximum. Scaled
-/// to tile_w x tile_h: enlarged by whole pixels, reduced by area averaging.
-cv::Mat map_tile(const float* map, int width, int height, bool signed_map, int tile_w, int tile_h) {
-  cv::Mat tile(height, width, CV_8U);
-  float peak = 0.0f;
-  float low = map[0];
-  float high = map[0];
-  for (int i = 0; i < width * height; ++i) {
-    peak = std::max(peak, std::abs(map[i]));
-    low = std::min(low, map[i]);
-    high = std::max(high, map[i]);
-  }
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const float v = map[y * width + x];
-      float g = 128.0f;
-      if (signed_map && peak > 0.0f) g = 128.0f + 127.0f * v / peak;
-      if (!signed_map && high > low) g = 255.0f * (v - low) / (high - low);
-      tile.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(std::lround(g), 0L, 255L));
-    }
-  }
-  cv::Mat scaled;
-  cv::resize(tile, scaled, cv::Size(tile_w, tile_h), 0, 0,
-             tile_w >= width ? cv::INTER_NEAREST : cv::INTER_AREA);
-  return scaled;
 }
 
 void label(cv::Mat& canvas, const std::string& text, int x, int y, double scale = 0.45) {
@@ -201,8 +174,10 @@ cv::Mat contact_sheet(const perception::SensoryServo& servo, const perception::S
       label(canvas, std::string(eye == 0 ? "left" : "right") + " L" + std::to_string(k), 6, y + 16);
       label(canvas, "block " + std::to_string(g.scale_px) + " px", 6, y + 34, 0.4);
       for (std::size_t c = 0; c < columns.size(); ++c) {
-        const cv::Mat tile = map_tile(frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]),
-                                      w, h, columns[c] == 0, tile_w, tile_h);
+        const cv::Mat tile = feature_map_tile(
+            frame.maps[static_cast<std::size_t>(eye)].map(k, columns[c]), w, h,
+            is_signed_map(servo.operators().maps()[static_cast<std::size_t>(columns[c])]), tile_w,
+            tile_h);
         cv::Mat colour;
         cv::cvtColor(tile, colour, cv::COLOR_GRAY2BGR);
         colour.copyTo(canvas(

@@ -93,6 +93,8 @@ const char* gaze_action_name(control::GazeAction action) {
       return "pursue";
     case control::GazeAction::kMoveJoint:
       return "move_joint";
+    case control::GazeAction::kVerge:
+      return "verge";  // Never a status's action: a verge command keeps the action going.
   }
   return "unknown";
 }

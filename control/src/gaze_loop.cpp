@@ -108,6 +108,16 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     apply(command, now_ns);
   }
   update_belief(now_ns);
+  // An unwritten channel holds FeatureRequest{} (everything): nobody asked for it yet.
+  if (extra_features_channel_ != nullptr && extra_features_channel_->version() > 0) {
+    perception::FeatureRequest extra;
+    if (extra_features_channel_->read(extra) &&
+        (extra.maps != extra_features_.maps || extra.disparity != extra_features_.disparity ||
+         extra.motion != extra_features_.motion || extra.moments != extra_features_.moments)) {
+      extra_features_ = extra;
+      request_features();
+    }
+  }
 
   (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
   const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
@@ -168,6 +178,12 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
 }
 
 void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
+  if (command.action == GazeAction::kVerge) {
+    verge_ = command.verge;
+    verged_ = false;
+    ++status_.commands_applied;
+    return;
+  }
   command_ = command;
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
@@ -206,13 +222,32 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
       break;
     }
     case GazeAction::kMoveJoint:
-      // Not carried out yet (the console's change brings it): refused and counted, holding.
-      ++rejected_commands_;
       mode_ = Mode::kHold;
+      if (!move_joint(command.joint_rig_index, command.position_rad)) ++rejected_commands_;
       break;
+    case GazeAction::kVerge:
+      break;  // Handled above.
   }
   if (mode_ != Mode::kPursue) pursuit_.stop();
   request_features();
+}
+
+bool GazeLoop::move_joint(int rig_index, double position_rad) noexcept {
+  if (rig_index < 0 || rig_index >= pose_.count || !std::isfinite(position_rad)) return false;
+  const int joint = rig_to_tree_[at(rig_index)];
+  const bool head_joint = joint == head_.neck_pan || joint == head_.neck_tilt ||
+                          joint == head_.eye_tilt || joint == head_.eye_pan[0] ||
+                          joint == head_.eye_pan[1];
+  if (!head_joint) return false;  // The arms' joints are the arm loop's.
+  const hal::JointLimits& limits = limits_tree_[at(joint)];
+  q_command_tree_[at(joint)] =
+      std::clamp(position_rad, limits.min_position_rad, limits.max_position_rad);
+  // The verging eye keeps the vergence this move gives it (place_verging_eye() would undo it).
+  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
+  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
+  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
+  vergence_rad_ = sign * (q_command_tree_[verging_pan] - q_command_tree_[dominant_pan]);
+  return true;
 }
 
 bool GazeLoop::resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept {
@@ -434,10 +469,10 @@ void GazeLoop::publish(std::int64_t now_ns) noexcept {
 
 void GazeLoop::request_features() noexcept {
   request_.fixation_set = false;  // Both retinas on their image centres: the eyes' axes.
-  request_.features.maps = perception::kAllMaps;
+  request_.features.maps = perception::kAllMaps | extra_features_.maps;
   request_.features.disparity = true;
-  request_.features.motion = mode_ == Mode::kPursue;
-  request_.features.moments = false;
+  request_.features.motion = mode_ == Mode::kPursue || extra_features_.motion;
+  request_.features.moments = extra_features_.moments;
   ssm_requests_.write(request_);
 }
 

@@ -71,6 +71,7 @@ class GazeHarness {
     BelievedJoints believed({{&states_, all}}, static_cast<int>(rig_order_.size()));
     loop_ = std::make_unique<GazeLoop>(hardware_, params_, pose_, std::move(believed), summaries_,
                                        requests_, commands_, targets_);
+    loop_->set_extra_features(&extra_features_);
     loop_->configure();
     loop_->activate();
   }
@@ -83,6 +84,23 @@ class GazeHarness {
     c.verge = verge;
     commands_.write(c);
   }
+
+  void move(const std::string& joint, double position_deg) {
+    GazeCommand c;
+    c.sequence = ++sequence_;
+    c.action = GazeAction::kMoveJoint;
+    c.joint_rig_index = static_cast<int>(index(joint));
+    c.position_rad = position_deg * kDeg;
+    commands_.write(c);
+  }
+  void verge(bool on) {
+    GazeCommand c;
+    c.sequence = ++sequence_;
+    c.action = GazeAction::kVerge;
+    c.verge = on;
+    commands_.write(c);
+  }
+  hal::SeqlockChannel<perception::FeatureRequest>& extra_features() { return extra_features_; }
 
   static GazeTarget point(const Eigen::Vector3d& p) {
     GazeTarget t;
@@ -213,6 +231,7 @@ class GazeHarness {
   hal::SeqlockChannel<perception::SsmSummary> summaries_;
   hal::SeqlockChannel<perception::SsmRequest> requests_;
   hal::SeqlockChannel<GazeCommand> commands_;
+  hal::SeqlockChannel<perception::FeatureRequest> extra_features_;
   hal::SeqlockChannel<JointTargetFrame> targets_;
   std::unique_ptr<GazeLoop> loop_;
   std::uint64_t sequence_ = 0;
@@ -412,6 +431,75 @@ TEST(GazeLoop, PredictiveVergenceArrivesVerged) {
   // No disparity was reported since the command: the vergence came from the target's depth.
   EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, far_right), 0.05);
   EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, far_right), 0.05);
+}
+
+}  // namespace
+}  // namespace cambio::control
+
+namespace cambio::control {
+namespace {
+
+TEST(GazeLoop, AMovedHeadJointGoesWithinItsLimitsAndAnArmJointIsRefused) {
+  GazeHarness head;
+  head.build();
+  head.move("neck_pan", 10.0);
+  head.step();
+  EXPECT_NEAR(head.q_deg("neck_pan"), 10.0, 1e-9);
+  EXPECT_EQ(head.status().action, GazeAction::kMoveJoint);
+  const double upper_deg = head.hardware().find_joint("eye_tilt")->limits.max_position_rad / kDeg;
+  head.move("eye_tilt", upper_deg + 50.0);
+  head.step();
+  EXPECT_NEAR(head.q_deg("eye_tilt"), upper_deg, 1e-9);
+  // The verging eye keeps the vergence a move gives it; the eyes never diverge.
+  head.move("right_eye_pan", 6.0);
+  for (int i = 0; i < 3; ++i) head.step();
+  EXPECT_NEAR(head.q_deg("right_eye_pan") - head.q_deg("left_eye_pan"), 6.0, 1e-9);
+  head.move("right_eye_pan", -6.0);
+  head.step();
+  EXPECT_NEAR(head.q_deg("right_eye_pan"), head.q_deg("left_eye_pan"), 1e-9);
+  // Arms are the arm loop's: the command is counted as rejected and nothing moves.
+  const std::uint64_t rejected = head.loop().rejected_commands();
+  const double elbow = head.q_deg("left_elbow");
+  head.move("left_elbow", 30.0);
+  head.step();
+  EXPECT_EQ(head.loop().rejected_commands(), rejected + 1);
+  EXPECT_EQ(head.q_deg("left_elbow"), elbow);
+}
+
+TEST(GazeLoop, VergenceSwitchesOffAndOnWithoutChangingWhatTheHeadDoes) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  GazeHarness head;
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere), /*verge=*/true);
+  head.step(&sphere);  // A latest-value channel: one command per cycle.
+  head.verge(false);
+  head.step(&sphere);
+  const std::uint64_t corrections = head.loop().corrections();
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  EXPECT_EQ(head.status().action, GazeAction::kFixate);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, sphere), 0.05);
+  EXPECT_EQ(head.loop().corrections(), corrections) << "verged with vergence off";
+  EXPECT_GT(head.gaze_error_deg(hal::Eye::kRight, sphere), 1.0);
+  head.verge(true);
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  EXPECT_EQ(head.status().action, GazeAction::kFixate);
+  EXPECT_GT(head.loop().corrections(), 3U);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.05);
+}
+
+TEST(GazeLoop, ExtraFeatureRequestsAreAddedToWhatTheGazeNeeds) {
+  GazeHarness head;
+  head.build();
+  head.command(GazeAction::kHold);
+  head.step();
+  EXPECT_FALSE(head.request().features.motion);
+  EXPECT_FALSE(head.request().features.moments);
+  perception::FeatureRequest extra{.maps = 0, .disparity = false, .motion = true, .moments = true};
+  head.extra_features().write(extra);
+  head.step();
+  EXPECT_TRUE(head.request().features.motion);
+  EXPECT_TRUE(head.request().features.moments);
+  EXPECT_TRUE(head.request().features.disparity) << "the gaze's own need was dropped";
 }
 
 }  // namespace

@@ -13,6 +13,8 @@ enum class GazeAction : std::uint8_t {
   kPursue,   ///< Follow what the dominant eye's fovea sees, from the SSM's motion estimate.
   /// Move one head joint (joint_rig_index) to position_rad, clamped to its limits, then hold.
   kMoveJoint,
+  /// Only switch vergence on or off (GazeCommand::verge); whatever the head does goes on.
+  kVerge,
 };
 
 enum class GazeTargetKind : std::uint8_t {
@@ -36,7 +38,7 @@ struct GazeCommand {
   std::uint64_t sequence = 0;
   GazeAction action = GazeAction::kHold;
   GazeTarget target;
-  bool verge = true;  ///< The other eye verges on what the dominant eye fixates.
+  bool verge = true;          ///< The other eye verges on what the dominant eye fixates.
   int joint_rig_index = -1;   ///< kMoveJoint: the joint, rig order.
   double position_rad = 0.0;  ///< kMoveJoint: where to.
 };

@@ -84,6 +84,11 @@ class GazeLoop final : public hal::Loop {
   hal::Status update(const hal::LoopTick& tick) noexcept override;
 
   const hal::SeqlockChannel<GazeStatus>& status() const { return status_channel_; }
+  /// Features the decision layer (a console, a behaviour) wants from the SSM besides what the
+  /// gaze needs: the loop asks for both. Set before the run (configure time); null: none.
+  void set_extra_features(const hal::SeqlockChannel<perception::FeatureRequest>* extra) {
+    extra_features_channel_ = extra;
+  }
   /// Commands that could not be carried out (a target behind the eye, an unsolvable saccade).
   std::uint64_t rejected_commands() const { return rejected_commands_; }
   std::uint64_t corrections() const { return corrections_; }
@@ -105,6 +110,9 @@ class GazeLoop final : public hal::Loop {
 
   void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
   bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
+  /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
+  /// not the head's or a position that is not finite.
+  bool move_joint(int rig_index, double position_rad) noexcept;
   void start_saccade(std::int64_t now_ns) noexcept;
   void servo_step(double gain_scale, double dt_s) noexcept;
   void verge(const perception::SsmSummary& summary) noexcept;
@@ -163,6 +171,9 @@ class GazeLoop final : public hal::Loop {
   perception::SsmSummary summary_{};
   std::uint64_t last_summary_sequence_ = 0;
   perception::SsmRequest request_{};
+  const hal::SeqlockChannel<perception::FeatureRequest>* extra_features_channel_ = nullptr;
+  perception::FeatureRequest extra_features_{
+      .maps = 0, .disparity = false, .motion = false, .moments = false};
   GazeStatus status_{};
   FixationError fixation_error_{};
   std::uint64_t rejected_commands_ = 0;

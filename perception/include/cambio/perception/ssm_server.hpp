@@ -53,6 +53,8 @@ class SsmServer final : public hal::Loop {
   const hal::SeqlockChannel<SsmSummary>& summaries() const { return summaries_; }
   /// The newest full frame with feature maps (one reader). Valid after configure().
   hal::TripleBuffer<SsmFrame>& frames() { return *frames_; }
+  /// The pipeline (operators, retina geometry); null before configure().
+  const SensoryServo* servo() const { return servo_.get(); }
 
  private:
   std::string name_;

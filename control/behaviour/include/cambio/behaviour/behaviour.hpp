@@ -68,6 +68,12 @@ class Actions {
   virtual ActionResult release(control::ArmSide arm = control::ArmSide::kNearest) = 0;
   /// Moves one joint to a position (rad), clamped to its limits.
   virtual ActionResult move_joint(std::string_view joint_name, double position_rad) = 0;
+  /// Asks the SSM for features besides what the gaze needs (motion, moments, maps), from the
+  /// next frame on; the request stays until replaced.
+  virtual ActionResult request_features(const perception::FeatureRequest& features) {
+    (void)features;
+    return {false, "this robot takes no feature requests"};
+  }
 };
 
 /// A user's decision making (attention, learning, a task): it runs in its own loop at a rate the

@@ -1,0 +1,55 @@
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "cambio/control/believed_joints.hpp"
+#include "console_line.hpp"
+#include "main_job.hpp"
+#include "robot_actions.hpp"
+
+namespace cambio::app {
+
+/// What the console does with one line, against a main job whose loops are idle while it runs
+/// (between the lockstep executor's steps, or beside the realtime executor's threads: it only
+/// touches channels). A bad line or a refused action prints why and changes nothing; no line
+/// stops the robot except `quit`.
+class ConsoleSession {
+ public:
+  /// What the run loop does next.
+  struct Next {
+    bool quit = false;
+    double wait_s = 0.0;  ///< Advance this much run time before the next line (0: none).
+  };
+
+  /// `scene_objects`: the names `look object NAME` accepts (the simulator's scene).
+  ConsoleSession(MainJob& job, RobotActions& actions, std::vector<std::string> scene_objects,
+                 std::ostream& out);
+
+  /// Parses and carries out one line; `now_ns` is the run's clock. Never throws for a bad line.
+  Next execute(const std::string& line, std::int64_t now_ns);
+
+  std::uint64_t lines_refused() const { return lines_refused_; }
+
+ private:
+  Next carry_out(const console::Command& command, std::int64_t now_ns);
+  void report(const behaviour::ActionResult& result, const std::string& done);
+  /// The target of look/saccade as the gaze loop takes it; false (and says why) if none.
+  bool aim(const console::Target& target, bool saccade);
+  void print_status(std::int64_t now_ns);
+  void print_ssm(const std::string& save_directory);
+
+  MainJob& job_;
+  RobotActions& actions_;
+  std::vector<std::string> scene_objects_;
+  std::ostream& out_;
+  control::BelievedJoints believed_;
+  std::vector<double> q_believed_rig_;
+  std::uint64_t lines_refused_ = 0;
+  bool features_requested_ = false;
+  std::uint64_t gaze_rejections_seen_ = 0;
+};
+
+}  // namespace cambio::app

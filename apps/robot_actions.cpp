@@ -1,0 +1,244 @@
+#include "robot_actions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "cambio/config/map_reader.hpp"
+
+namespace cambio::app {
+namespace {
+
+// Sequence numbers of the actions start far above the experiment script's (which counts from
+// 1), so the gaze loop never takes an action for a command it has already applied.
+constexpr std::uint64_t kFirstSequence = std::uint64_t{1} << 40;
+
+behaviour::ActionResult refused(std::string why) {
+  return {false, std::move(why)};
+}
+
+std::string degrees(double rad) {
+  std::ostringstream out;
+  out.precision(1);
+  out << std::fixed << rad * 180.0 / std::numbers::pi << " deg";
+  return out.str();
+}
+
+std::string point_text(const Eigen::Vector3d& p) {
+  std::ostringstream out;
+  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m";
+  return out.str();
+}
+
+}  // namespace
+
+RobotActions::RobotActions(const hal::HardwareInfo& hardware, Setup setup, Channels channels)
+    : image_width_px_(setup.image_width_px),
+      image_height_px_(setup.image_height_px),
+      channels_(channels),
+      verge_(setup.verge),
+      gaze_sequence_(kFirstSequence),
+      arm_sequence_(kFirstSequence) {
+  if (channels_.gaze == nullptr) throw std::invalid_argument("robot actions: no gaze channel");
+  for (const std::string& name : setup.rig_joint_order) {
+    const hal::JointInfo* joint = hardware.find_joint(name);
+    if (joint == nullptr) throw std::invalid_argument("robot actions: no joint '" + name + "'");
+    const bool head = std::find(setup.head_joints.begin(), setup.head_joints.end(), name) !=
+                      setup.head_joints.end();
+    joints_.push_back({name, joint->limits, head});
+  }
+}
+
+behaviour::ActionResult RobotActions::send(control::GazeCommand command) {
+  std::lock_guard lock(mutex_);
+  command.sequence = ++gaze_sequence_;
+  if (command.action != control::GazeAction::kVerge) command.verge = verge_;
+  channels_.gaze->write(command);
+  return {true, {}};
+}
+
+behaviour::ActionResult RobotActions::send(control::ArmCommand command) {
+  if (channels_.arms == nullptr) return refused("this run has no arm controller");
+  std::lock_guard lock(mutex_);
+  command.sequence = ++arm_sequence_;
+  channels_.arms->write(command);
+  return {true, {}};
+}
+
+behaviour::ActionResult RobotActions::pixel_command(control::GazeAction action, double u_px,
+                                                    double v_px) {
+  if (!std::isfinite(u_px) || !std::isfinite(v_px) || u_px < 0.0 || v_px < 0.0 ||
+      u_px > image_width_px_ || v_px > image_height_px_) {
+    std::ostringstream why;
+    why << "pixel (" << u_px << ", " << v_px << ") is outside the dominant eye's "
+        << image_width_px_ << "x" << image_height_px_ << " image";
+    return refused(why.str());
+  }
+  control::GazeCommand command;
+  command.action = action;
+  command.target.kind = control::GazeTargetKind::kPixel;
+  command.target.pixel_px = {u_px, v_px};
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::point_command(control::GazeAction action,
+                                                    const Eigen::Vector3d& p_W_m) {
+  if (!p_W_m.allFinite()) return refused("the point " + point_text(p_W_m) + " is not finite");
+  control::GazeCommand command;
+  command.action = action;
+  command.target.kind = control::GazeTargetKind::kPoint;
+  command.target.point_W_m = {p_W_m.x(), p_W_m.y(), p_W_m.z()};
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::look_at_pixel(double u_px, double v_px) {
+  return pixel_command(control::GazeAction::kFixate, u_px, v_px);
+}
+
+behaviour::ActionResult RobotActions::look_at_point(const Eigen::Vector3d& p_W_m) {
+  return point_command(control::GazeAction::kFixate, p_W_m);
+}
+
+behaviour::ActionResult RobotActions::saccade_to_pixel(double u_px, double v_px) {
+  return pixel_command(control::GazeAction::kSaccade, u_px, v_px);
+}
+
+behaviour::ActionResult RobotActions::saccade_to_point(const Eigen::Vector3d& p_W_m) {
+  return point_command(control::GazeAction::kSaccade, p_W_m);
+}
+
+behaviour::ActionResult RobotActions::saccade_by_angles(double pan_rad, double tilt_rad) {
+  // A gaze displacement of 90 degrees or more has no image-plane direction.
+  constexpr double kLargest = 0.5 * std::numbers::pi - 1e-3;
+  if (!std::isfinite(pan_rad) || !std::isfinite(tilt_rad) || std::abs(pan_rad) >= kLargest ||
+      std::abs(tilt_rad) >= kLargest) {
+    return refused("angles (" + degrees(pan_rad) + ", " + degrees(tilt_rad) +
+                   ") must be finite and within +-90 deg of the gaze");
+  }
+  control::GazeCommand command;
+  command.action = control::GazeAction::kSaccade;
+  command.target.kind = control::GazeTargetKind::kAngles;
+  command.target.angles_rad = {pan_rad, tilt_rad};
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::pursue() {
+  control::GazeCommand command;
+  command.action = control::GazeAction::kPursue;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::hold() {
+  control::GazeCommand command;
+  command.action = control::GazeAction::kHold;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::verge(bool on) {
+  {
+    std::lock_guard lock(mutex_);
+    verge_ = on;
+  }
+  control::GazeCommand command;
+  command.action = control::GazeAction::kVerge;
+  command.verge = on;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::reach_fixated(control::ArmSide arm) {
+  control::ArmCommand command;
+  command.action = control::ArmAction::kReach;
+  command.arm = arm;
+  command.target = control::ReachTargetKind::kFixation;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::reach_point(const Eigen::Vector3d& p_W_m,
+                                                  control::ArmSide arm) {
+  if (!p_W_m.allFinite()) return refused("the point " + point_text(p_W_m) + " is not finite");
+  control::ArmCommand command;
+  command.action = control::ArmAction::kReach;
+  command.arm = arm;
+  command.target = control::ReachTargetKind::kPoint;
+  command.point_W_m = {p_W_m.x(), p_W_m.y(), p_W_m.z()};
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::grasp(control::ArmSide arm) {
+  control::ArmCommand command;
+  command.action = control::ArmAction::kGrasp;
+  command.arm = arm;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::release(control::ArmSide arm) {
+  control::ArmCommand command;
+  command.action = control::ArmAction::kRelease;
+  command.arm = arm;
+  return send(command);
+}
+
+behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, double position_rad) {
+  const auto joint = std::find_if(joints_.begin(), joints_.end(),
+                                  [&](const Joint& j) { return j.name == joint_name; });
+  if (joint == joints_.end()) {
+    std::vector<std::string> names;
+    for (const Joint& j : joints_) names.push_back(j.name);
+    std::string why = "no joint \"" + std::string(joint_name) + "\"";
+    if (const auto near = config::closest_name(joint_name, names)) {
+      why += "; did you mean \"" + *near + "\"?";
+    }
+    return refused(why);
+  }
+  if (!std::isfinite(position_rad)) return refused(joint->name + ": the angle is not finite");
+  const double clamped =
+      std::clamp(position_rad, joint->limits.min_position_rad, joint->limits.max_position_rad);
+  std::string note;
+  if (clamped != position_rad) {
+    note = joint->name + ": " + degrees(position_rad) + " is beyond its " +
+           (clamped > position_rad ? "lower" : "upper") + " limit; clamped to " + degrees(clamped);
+  }
+  const int index = static_cast<int>(joint - joints_.begin());
+  behaviour::ActionResult result;
+  if (joint->head) {
+    control::GazeCommand command;
+    command.action = control::GazeAction::kMoveJoint;
+    command.joint_rig_index = index;
+    command.position_rad = clamped;
+    result = send(command);
+  } else {
+    control::ArmCommand command;
+    command.action = control::ArmAction::kMoveJoint;
+    command.joint_rig_index = index;
+    command.position_rad = clamped;
+    result = send(command);
+  }
+  if (result.sent) result.message = note;
+  return result;
+}
+
+behaviour::ActionResult RobotActions::request_features(const perception::FeatureRequest& features) {
+  if (channels_.features == nullptr) return refused("this run takes no feature requests");
+  std::lock_guard lock(mutex_);
+  channels_.features->write(features);
+  return {true, {}};
+}
+
+bool RobotActions::verging() const {
+  std::lock_guard lock(mutex_);
+  return verge_;
+}
+
+std::uint64_t RobotActions::gaze_commands_sent() const {
+  std::lock_guard lock(mutex_);
+  return gaze_sequence_ - kFirstSequence;
+}
+
+std::uint64_t RobotActions::arm_commands_sent() const {
+  std::lock_guard lock(mutex_);
+  return arm_sequence_ - kFirstSequence;
+}
+
+}  // namespace cambio::app

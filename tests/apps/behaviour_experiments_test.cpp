@@ -41,11 +41,12 @@ fs::path write_experiment(const fs::path& folder, const std::string& behaviour) 
 }
 // clang-format on
 
-TEST(BehaviourExperiments, AttentionScanVisitsEveryObjectOfItsScene) {
-  const fs::path out = fs::temp_directory_path() / "cambio_behaviour_attention_scan";
+// Runs attention_scan with `sets` and checks that it visited every object of the scene.
+void expect_every_object_visited(const std::string& label, const std::string& sets) {
+  const fs::path out = fs::temp_directory_path() / ("cambio_behaviour_" + label);
   fs::remove_all(out);
-  const auto result = testing::run_cambio(
-      "run firmware_config/experiments/attention_scan.yaml --out '" + out.string() + "'");
+  const auto result = testing::run_cambio("run firmware_config/experiments/attention_scan.yaml " +
+                                          sets + "--out '" + out.string() + "'");
   ASSERT_TRUE(fs::exists(out / "summary.json")) << result.output;
   const nlohmann::json summary = read_summary(out);
   EXPECT_EQ(result.exit_code, 0) << result.output << "\nvisits: " << summary["visits"].dump()
@@ -64,6 +65,20 @@ TEST(BehaviourExperiments, AttentionScanVisitsEveryObjectOfItsScene) {
       EXPECT_GT(loop.at("cycles").get<long long>(), 0) << loop.dump();
     }
   }
+}
+
+TEST(BehaviourExperiments, AttentionScanVisitsEveryObjectOfItsScene) {
+  expect_every_object_visited("attention_scan", "");
+}
+
+TEST(BehaviourExperiments, AttentionScanVisitsEveryObjectMovedElsewhereWithAnotherSeed) {
+  // The objects mirrored left to right and shifted: nothing of the shipped layout is assumed.
+  expect_every_object_visited("attention_scan_moved",
+                              "--set experiment.seed=2 "
+                              "--set 'scene.objects.0.xyz_m=[1.2, -0.25, 1.60]' "
+                              "--set 'scene.objects.1.xyz_m=[1.4, 0.32, 1.50]' "
+                              "--set 'scene.objects.2.xyz_m=[1.3, -0.2, 1.15]' "
+                              "--set 'scene.objects.3.xyz_m=[1.3, 0.25, 1.22]' ");
 }
 
 TEST(BehaviourExperiments, APluginsBehaviourThatThrowsFailsTheRunWhichGoesOnHolding) {

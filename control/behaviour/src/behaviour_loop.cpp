@@ -42,8 +42,6 @@ void BehaviourLoop::configure() {
 
 void BehaviourLoop::activate() {
   started_ = false;
-  // The initial guess of a joint no loop has reported yet: the rig's initial pose would be
-  // better, but every joint loop publishes in its first cycle, before this loop's first.
   observation_ = Observation{};
 }
 

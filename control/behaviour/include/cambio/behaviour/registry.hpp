@@ -22,6 +22,7 @@
 // closes the library (PluginLibraries).
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -70,7 +71,7 @@ class BehaviourParams {
     const char* first = entry->text.data();
     const char* last = first + entry->text.size();
     const auto [end, error] = std::from_chars(first, last, value);
-    if (error != std::errc() || end != last || !(value - value == 0.0)) {
+    if (error != std::errc() || end != last || !std::isfinite(value)) {
       fail(key, *entry, "a finite number");
     }
     return value;

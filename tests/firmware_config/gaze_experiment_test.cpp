@@ -593,10 +593,10 @@ TEST_F(GazeExperiment, ABehaviourIsReadWithItsPluginsResolvedAndItsParamsAsWritt
   const std::string plugin = folder_.write("libscan.so", "");
   const std::filesystem::path folder = std::filesystem::path(plugin).parent_path();
   const ExperimentConfig config = load_experiment_from_string(
-      text("  behaviour:\n"                                       // 7
-           "    name: scan\n"                                     // 8
-           "    rate_hz: 5\n"                                     // 9
-           "    plugins: [libscan.so]\n"                          // 10
+      text("  behaviour:\n"                                           // 7
+           "    name: scan\n"                                         // 8
+           "    rate_hz: 5\n"                                         // 9
+           "    plugins: [libscan.so]\n"                              // 10
            "    params: {dwell_s: 0.25, map: log@1.4, on: true}\n"),  // 11
       (folder / "e.yaml").string());
   ASSERT_TRUE(config.behaviour.has_value());
@@ -615,12 +615,12 @@ TEST_F(GazeExperiment, ABehaviourIsReadWithItsPluginsResolvedAndItsParamsAsWritt
 
 TEST_F(GazeExperiment, ABehaviourSectionsProblemsAreEachAtTheirKey) {
   const auto found = issues(
-      "  behaviour:\n"                                 // 7
-      "    name: scan\n"                               // 8
-      "    rate: 5\n"                                  // 9
-      "    plugins: [missing.so]\n"                    // 10
-      "    params: {dwell_s: [1, 2]}\n" +              // 11
-      std::string(kHoldCommand));                      // 12
+      "  behaviour:\n"                     // 7
+      "    name: scan\n"                   // 8
+      "    rate: 5\n"                      // 9
+      "    plugins: [missing.so]\n"        // 10
+      "    params: {dwell_s: [1, 2]}\n" +  // 11
+      std::string(kHoldCommand));          // 12
   ASSERT_EQ(found.size(), 4u) << joined(found);
   EXPECT_NE(joined(found).find("/tmp/gaze.yaml:10:"), std::string::npos) << joined(found);
   EXPECT_NE(joined(found).find("experiment.behaviour.plugins[0]: expected a readable shared "

@@ -235,6 +235,15 @@ int run_console_command(std::span<const std::string> args) {
     return kExitBadInput;
   }
 
+  // A behaviour writes the gaze commands through actions of its own: the channel takes one
+  // writer, so the console does not run beside it.
+  if (experiment.behaviour) {
+    std::cerr << "cambio console: " << experiment.name << " runs the behaviour '"
+              << experiment.behaviour->name
+              << "', which commands the gaze; the console takes experiments without one\n";
+    return kExitBadInput;
+  }
+
   hal::BackendFactory factory;
   std::unique_ptr<MainJob> job;
   try {

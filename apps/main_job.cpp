@@ -5,6 +5,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "cambio/behaviour/attention_behaviour.hpp"
 #include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/control/joint_loop_plan.hpp"
@@ -15,6 +16,7 @@
 #include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
+#include "robot_actions.hpp"
 
 namespace cambio::app {
 namespace {
@@ -147,12 +149,12 @@ void MainJob::build_loops() {
   camera_loop_ = std::make_unique<perception::CameraLoop>(cameras, stereo);
 
   // Perception runs whenever the rig has a stereo pair.
+  perception::SsmConfig ssm;
   if (stereo) {
     const std::string ssm_path = experiment_.perception_path.empty()
                                      ? perception::default_ssm_config_path()
                                      : experiment_.perception_path;
-    const perception::SsmConfig ssm =
-        ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
+    ssm = ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
     for (const std::size_t eye : {stereo->left, stereo->right}) {
       const config::CameraConfig* camera = rig.find_camera(hardware_.cameras[eye].name);
       if (camera == nullptr) continue;
@@ -176,8 +178,9 @@ void MainJob::build_loops() {
     gaze_loop_ = loop.get();
     gaze_loop_->set_extra_features(&feature_requests_);
     control_loop_ = std::move(loop);
-    // The script runs at the control rate, before the gaze loop in each lockstep tick.
-    if (options_.send_script) {
+    // The script runs at the control rate, before the gaze loop in each lockstep tick. A
+    // behaviour takes its place as the gaze commands' writer (the loader allows only one).
+    if (options_.send_script && !experiment_.behaviour) {
       script_ =
           std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_);
       executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
@@ -192,12 +195,62 @@ void MainJob::build_loops() {
   if (perception_loop_) {
     executor_->add_loop({perception_loop_.get(), loop_schedule(rig, "perception")});
   }
+  // After the perception loop: it reads the SSM's frames, which exist once that is configured.
+  if (experiment_.behaviour) build_behaviour(ssm);
   for (auto& [name, backend] : backends_) {
     for (const hal::BackendLoop& backend_loop : backend->loops()) {
       executor_->add_loop(
           {backend_loop.loop, runtime::LoopSchedule{backend_loop.rate_hz, backend_loop.priority}});
     }
   }
+}
+
+void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
+  const config::BehaviourConfig& config = *experiment_.behaviour;
+  // The loader allows a behaviour with the gaze task only, which needs the stereo pair.
+  if (gaze_loop_ == nullptr || !perception_loop_) {
+    throw BehaviourSetupError("behaviour '" + config.name + "': needs the gaze task");
+  }
+  plugins_ = std::make_unique<behaviour::PluginLibraries>();
+  registry_ = std::make_unique<behaviour::BehaviourRegistry>();
+  behaviour::register_builtin_behaviours(*registry_);
+  try {
+    for (const std::string& path : config.plugins) plugins_->load(path, *registry_);
+    std::map<std::string, behaviour::BehaviourParams::Entry, std::less<>> entries;
+    for (const auto& param : config.params) entries[param.key] = {param.text, param.where};
+    behaviour::BehaviourParams params(std::move(entries), "behaviour.params");
+    behaviour_ = registry_->make(config.name, params);
+  } catch (const std::exception& error) {
+    throw BehaviourSetupError(experiment_.source_file + ": behaviour: " + error.what());
+  }
+  // The behaviour acts through the same actions the console uses (no arm controller yet).
+  const hal::Eye dominant = experiment_.gaze.dominant_eye;
+  const hal::CameraInfo* eye = hardware_.find_camera(
+      dominant == hal::Eye::kLeft ? hardware_.stereo->left_camera : hardware_.stereo->right_camera);
+  RobotActions::Setup setup;
+  setup.rig_joint_order = joint_order_;
+  setup.head_joints = head_joint_names();
+  setup.image_width_px = eye->intrinsics.width_px;
+  setup.image_height_px = eye->intrinsics.height_px;
+  actions_ = std::make_unique<RobotActions>(
+      hardware_, std::move(setup),
+      RobotActions::Channels{&gaze_commands_, nullptr, &feature_requests_});
+
+  behaviour::BehaviourLoopSources sources;
+  sources.ssm = &perception_loop_->summaries();
+  sources.ssm_frames = [server = perception_loop_.get()] { return &server->frames(); };
+  sources.gaze = &gaze_loop_->status();
+  for (const auto& spec : perception::feature_map_specs(ssm.operators)) {
+    sources.feature_map_names.push_back(spec.name);
+  }
+  std::vector<control::BelievedJoints::Source> believed;
+  for (const auto& slot : joint_loops_) believed.push_back({slot.states.get(), slot.rig_indices});
+  behaviour_loop_ = std::make_unique<behaviour::BehaviourLoop>(
+      "behaviour", hardware_, dominant, std::move(sources),
+      control::BelievedJoints(std::move(believed), static_cast<int>(joint_order_.size())),
+      *behaviour_, *actions_);
+  // Decision making, not control: never at a real-time priority or pinned beside the loops.
+  executor_->add_loop({behaviour_loop_.get(), runtime::LoopSchedule{config.rate_hz, 0, -1}});
 }
 
 void MainJob::build_trace() {
@@ -225,6 +278,7 @@ void MainJob::build_trace() {
   sources.verging_pan_joint = camera_of(hal::other(dominant)).parent_frame;
   sources.target_object = experiment_.evaluation.target_object;
   sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
+  sources.visit_objects = experiment_.evaluation.visit_objects;
   // At the control rate, but as evaluation: never at a real-time priority or pinned beside the
   // loops it watches (its ground-truth queries and key-frame renders take milliseconds).
   runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
@@ -368,6 +422,16 @@ void MainJob::collect(MainJobResult& result) {
             sent_ns < 0 ? -1.0 : static_cast<double>(sent_ns - script_->start_ns()) * 1e-9);
       }
     }
+  }
+  if (behaviour_loop_) {
+    BehaviourReport report;
+    report.name = experiment_.behaviour->name;
+    report.plugins = plugins_->paths();
+    report.steps = behaviour_loop_->steps();
+    report.status = behaviour_loop_->status();
+    report.failed = behaviour_loop_->failed();
+    report.error = behaviour_loop_->error();
+    result.behaviour = std::move(report);
   }
   if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
     const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);

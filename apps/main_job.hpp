@@ -5,9 +5,12 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "cambio/behaviour/behaviour_loop.hpp"
+#include "cambio/behaviour/plugin_libraries.hpp"
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/control/command_script.hpp"
@@ -34,6 +37,23 @@ struct CanGroupReport {
   canopen::CanGroupCounters counters;
 };
 
+/// What the experiment's behaviour did (MainJobResult::behaviour).
+struct BehaviourReport {
+  std::string name;
+  std::vector<std::string> plugins;  ///< The libraries loaded, in order.
+  std::uint64_t steps = 0;
+  std::string status;  ///< Its last status line.
+  bool failed = false;
+  std::string error;  ///< Why it stopped, when it failed.
+};
+
+/// The experiment's behaviour could not be set up: a plugin that does not load, an unknown
+/// name, a bad parameter. A problem of the experiment's input, not of a device.
+class BehaviourSetupError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct MainJobResult {
   std::vector<runtime::LoopStatistics> loops;
   bool realtime = false;
@@ -55,7 +75,8 @@ struct MainJobResult {
   std::uint64_t gaze_measurements = 0;
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
-  std::vector<CanGroupReport> can_groups;  ///< One per socketcan group.
+  std::vector<CanGroupReport> can_groups;    ///< One per socketcan group.
+  std::optional<BehaviourReport> behaviour;  ///< If the experiment has one.
   /// What the sim's cameras rendered with; none when the run made no renderer.
   std::optional<sim::RendererDescription> renderer;
 };
@@ -78,7 +99,9 @@ struct MainJobOptions {
 ///  3. Backend::configure() of every backend;
 ///  4. the loops, wired through latest-value channels:
 ///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop(s)
-///     plus the backends' own loops (the sim's physics). Groups at the rig-wide joint rate share
+///     plus the backends' own loops (the sim's physics), and with a `behaviour:` the behaviour
+///     loop (its plugins loaded, the built-ins registered; it is the gaze commands' writer in
+///     place of the script). Groups at the rig-wide joint rate share
 ///     the loop "joint"; groups with a rate_hz of their own run in a loop per rate
 ///     (control::plan_joint_loops), all reading the rig-wide targets and holding together.
 /// run() activates the backends, runs the executor (loops: configure, activate, update...,
@@ -142,6 +165,7 @@ class MainJob {
   void build_backends(const hal::BackendFactory& factory);
   void build_loops();
   void build_trace();
+  void build_behaviour(const perception::SsmConfig& ssm);
   void collect(MainJobResult& result);
   int joint_index(const std::string& joint_name) const;
 
@@ -176,6 +200,14 @@ class MainJob {
   std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
+
+  // The behaviour. The plugins are declared first so that they are closed last: the registry's
+  // factories and the behaviour a plugin made hold its code.
+  std::unique_ptr<behaviour::PluginLibraries> plugins_;
+  std::unique_ptr<behaviour::BehaviourRegistry> registry_;
+  std::unique_ptr<behaviour::Behaviour> behaviour_;
+  std::unique_ptr<behaviour::Actions> actions_;  // RobotActions on this run's channels.
+  std::unique_ptr<behaviour::BehaviourLoop> behaviour_loop_;
 };
 
 }  // namespace cambio::app

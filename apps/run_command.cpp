@@ -26,7 +26,7 @@ namespace cambio::app {
 namespace {
 
 struct RunOutcome {
-  std::string name;  ///< completed, goal_failed, device_fault, interrupted.
+  std::string name;  ///< completed, goal_failed, behaviour_failed, device_fault, interrupted.
   int exit_status = 0;
   std::string signal_name;  ///< Set when a signal stopped the run.
 };
@@ -75,12 +75,24 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                     {"final_action", gaze_action_name(gaze.action)},
                     {"final_vergence_rad", gaze.vergence_rad}};
   }
+  if (result.behaviour) {
+    const BehaviourReport& behaviour = *result.behaviour;
+    json["behaviour"] = {{"name", behaviour.name},
+                         {"plugins", behaviour.plugins},
+                         {"steps", behaviour.steps},
+                         {"status", behaviour.status},
+                         {"failed", behaviour.failed},
+                         {"error", behaviour.failed ? Json(behaviour.error) : Json(nullptr)}};
+  }
   if (evaluation) {
     json["metrics"] = metrics_json(evaluation->metrics);
     json["goals"] = goals_json(evaluation->goals);
     json["passed"] = all_passed(evaluation->goals);
   }
   if (trace != nullptr) {
+    if (!trace->visit_objects.empty()) {
+      json["visits"] = visits_json(*trace, experiment.evaluation.visit_dwell_s);
+    }
     json["final_joints"] = final_joints_json(*trace);
     json["trace"] = {{"rows", trace->rows.size()},
                      {"truncated", trace->truncated},
@@ -143,6 +155,7 @@ RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const Mai
   inputs.settle_gaze_error_deg =
       experiment.evaluation.settle.gaze_error_rad * 180.0 / std::numbers::pi;
   inputs.pursuit_catch_up_s = experiment.evaluation.pursuit_catch_up_s;
+  inputs.visit_dwell_s = experiment.evaluation.visit_dwell_s;
   RunEvaluation evaluation{compute_metrics(trace, inputs), {}};
   evaluation.goals = evaluate_goals(evaluation.metrics, experiment.goals);
   return evaluation;
@@ -164,7 +177,7 @@ void print_evaluation(const RunEvaluation& evaluation) {
 }
 
 /// How the run ended and the exit status that says so. Precedence: a signal over a device fault
-/// over a failed goal.
+/// over a failed behaviour over a failed goal.
 RunOutcome outcome_of(const MainJobResult& result, bool goal_failed) {
   if (result.stopped_by_signal) {
     const int signal_number = stop_signal_number();
@@ -175,6 +188,8 @@ RunOutcome outcome_of(const MainJobResult& result, bool goal_failed) {
                                        : "signal " + std::to_string(signal_number)};
   }
   if (result.fault_latched_at_end) return {"device_fault", kExitDeviceFault, ""};
+  // A behaviour that threw stopped itself and the robot held: the run did not do its task.
+  if (result.behaviour && result.behaviour->failed) return {"behaviour_failed", kExitFailure, ""};
   if (goal_failed) return {"goal_failed", kExitFailure, ""};
   return {"completed", kExitOk, ""};
 }
@@ -223,6 +238,9 @@ int run_run_command(std::span<const std::string> args) {
     register_builtin_backends(factory, experiment, can_log.get());
     job = std::make_unique<MainJob>(experiment, factory);
   } catch (const hal::BackendUnavailable& error) {
+    std::cerr << "cambio run: " << error.what() << "\n";
+    return kExitBadInput;
+  } catch (const BehaviourSetupError& error) {
     std::cerr << "cambio run: " << error.what() << "\n";
     return kExitBadInput;
   } catch (const config::ConfigError& error) {
@@ -278,6 +296,12 @@ int run_run_command(std::span<const std::string> args) {
     std::cout << "perception: " << result.perception->sequence << " stereo frames; disparity at "
               << "the fovea " << (d.valid ? std::to_string(d.disparity_px) + " px" : "invalid")
               << " (confidence " << d.confidence << ")\n";
+  }
+  if (result.behaviour) {
+    const BehaviourReport& behaviour = *result.behaviour;
+    std::cout << "behaviour " << behaviour.name << ": " << behaviour.steps << " steps; "
+              << behaviour.status << "\n";
+    if (behaviour.failed) std::cerr << "cambio run: behaviour stopped: " << behaviour.error << "\n";
   }
   bool goal_failed = false;
   std::optional<RunEvaluation> evaluation;

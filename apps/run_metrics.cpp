@@ -110,7 +110,7 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
   }
   if (!(inputs.settle_disparity_px > 0.0) || !(inputs.settle_gaze_error_deg > 0.0) ||
       !(inputs.reverge_disparity_px > 0.0) || !(inputs.pursuit_catch_up_s >= 0.0) ||
-      !(inputs.stop_speed_rad_s > 0.0)) {
+      !(inputs.stop_speed_rad_s > 0.0) || !(inputs.visit_dwell_s > 0.0)) {
     throw std::invalid_argument("metrics: thresholds must be positive");
   }
   MetricsBuilder out;
@@ -337,7 +337,60 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
   } else {
     out.absent("target_occluded_s", "the run has no target point");
   }
+
+  if (trace.visit_objects.empty()) {
+    for (const char* name : {"objects_visited", "all_objects_visited_s"}) {
+      out.absent(name, "the experiment names no evaluation.visit_objects");
+    }
+  } else {
+    const auto visits = object_visit_times(trace, inputs.visit_dwell_s);
+    double visited = 0.0;
+    double last_s = 0.0;
+    std::string missed;
+    for (std::size_t i = 0; i < visits.size(); ++i) {
+      if (visits[i]) {
+        visited += 1.0;
+        last_s = std::max(last_s, *visits[i]);
+      } else {
+        missed += (missed.empty() ? "" : ", ") + trace.visit_objects[i];
+      }
+    }
+    out.set("objects_visited", visited);
+    if (missed.empty()) {
+      out.set("all_objects_visited_s", last_s);
+    } else {
+      out.absent("all_objects_visited_s", "never visited: " + missed);
+    }
+  }
   return out.build();
+}
+
+std::vector<std::optional<double>> object_visit_times(const Trace& trace, double dwell_s) {
+  std::vector<std::optional<double>> visits(trace.visit_objects.size());
+  int resting_on = -1;  // The object of the current run of rows, -1 for none.
+  double since_s = 0.0;
+  for (const TraceRow& row : trace.rows) {
+    const bool still = !(row.gaze_status && row.saccade_active);
+    const int object = still ? row.axis_object : -1;
+    if (object != resting_on) {
+      resting_on = object;
+      since_s = row.time_s;
+    }
+    if (object < 0 || object >= static_cast<int>(visits.size())) continue;
+    auto& visit = visits[static_cast<std::size_t>(object)];
+    // Row times are sums of periods: a dwell of whole periods may fall short by rounding.
+    if (!visit && row.time_s - since_s >= dwell_s - 1e-9) visit = row.time_s;
+  }
+  return visits;
+}
+
+Json visits_json(const Trace& trace, double dwell_s) {
+  Json json = Json::object();
+  const auto visits = object_visit_times(trace, dwell_s);
+  for (std::size_t i = 0; i < visits.size(); ++i) {
+    json[trace.visit_objects[i]] = visits[i] ? Json(*visits[i]) : Json(nullptr);
+  }
+  return json;
 }
 
 std::vector<GoalResult> evaluate_goals(const RunMetrics& metrics, std::span<const Goal> goals) {

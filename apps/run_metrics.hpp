@@ -40,6 +40,12 @@
 //                          held: a distractor crossing later must not move the start).
 //  target_occluded_s       Total time of rows marked target_occluded (each row lasts until the
 //                          next; the last as long as the one before).
+//  objects_visited         How many of the evaluation's visit_objects were visited: the
+//                          dominant eye's true optical axis met the object (TraceRow::
+//                          axis_object) in consecutive rows, none with saccade_active, spanning
+//                          at least visit_dwell_s (object_visit_times).
+//  all_objects_visited_s   When the last of them was first visited (the row completing its
+//                          dwell); absent unless every one was.
 // A metric that does not apply to a run (no saccade command, no disparity, no target...) is
 // absent, with the reason in RunMetrics::absent.
 
@@ -75,6 +81,8 @@ struct MetricInputs {
   /// The dominant eye's true pan speed below which it has stopped (0.05 rad/s, about 3 deg/s:
   /// far above the sim's motion noise over one control period, far below a saccade's speed).
   double stop_speed_rad_s = 0.05;
+  /// How long the axis must rest on an object for a visit (objects_visited).
+  double visit_dwell_s = 0.2;
 };
 
 /// The metrics present for a run, in kMetricNames order, and why the others are absent.
@@ -89,6 +97,12 @@ struct RunMetrics {
 
 /// Throws std::invalid_argument for commands out of time order or non-positive thresholds.
 RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs);
+
+/// For each of trace.visit_objects, when its first visit (see objects_visited) completed, in s
+/// since the start; nullopt if it was never visited.
+std::vector<std::optional<double>> object_visit_times(const Trace& trace, double dwell_s);
+/// summary.json's "visits": {object: time_s or null}.
+Json visits_json(const Trace& trace, double dwell_s);
 
 /// One experiment goal (the experiment file's `goals:`): metric <= value (kMax) or >= (kMin).
 using GoalBound = config::GoalBound;

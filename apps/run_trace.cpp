@@ -135,6 +135,7 @@ TraceRecorder::TraceRecorder(TraceSources sources, double rate_hz, double durati
   const double rows = std::ceil(rate_hz * duration_s) + 1.0;
   capacity_rows_ =
       rows >= static_cast<double>(kMaxTraceRows) ? kMaxTraceRows : static_cast<std::size_t>(rows);
+  trace_.visit_objects = sources_.visit_objects;
   key_frame_done_.assign(sources_.key_frame_times_s.size(), false);
   believed_frames_.resize(sources_.believed.size());
 }
@@ -145,6 +146,7 @@ void TraceRecorder::configure() {
   truth.X_WC(sources_.verging_camera);
   for (const auto& joint : sources_.joint_names) truth.joint_position_rad(joint);
   if (!sources_.target_object.empty()) truth.X_WO(sources_.target_object);
+  for (const std::string& object : sources_.visit_objects) truth.X_WO(object);
   trace_.rows.reserve(capacity_rows_);
   trace_.joints.reserve(capacity_rows_ * trace_.joint_count());
   scratch_.resize(trace_.joint_count());
@@ -280,6 +282,11 @@ hal::Status TraceRecorder::record(const hal::LoopTick& tick) {
         truth.segment_blocker(o_v, verging_target_W, hit.hit ? hit.object : std::string()).hit;
   }
   if (named && hit.hit && hit.object != sources_.target_object) row.target_occluded = true;
+  if (hit.hit) {
+    const auto& objects = sources_.visit_objects;
+    const auto it = std::find(objects.begin(), objects.end(), hit.object);
+    if (it != objects.end()) row.axis_object = static_cast<int>(it - objects.begin());
+  }
   row.true_gaze_error_deg = std::fmax(row.dominant_gaze_error_deg, row.verging_gaze_error_deg);
 
   // Believed against true fixation.
@@ -309,7 +316,7 @@ std::string trace_csv(const Trace& trace) {
       "target_x_m,target_y_m,target_z_m,dominant_gaze_error_deg,verging_gaze_error_deg,"
       "true_gaze_error_deg,target_occluded,believed_fixation_x_m,believed_fixation_y_m,"
       "believed_fixation_z_m,true_fixation_x_m,true_fixation_y_m,true_fixation_z_m,"
-      "fixation_error_m\n";
+      "fixation_error_m,axis_object\n";
   for (std::size_t r = 0; r < trace.rows.size(); ++r) {
     const TraceRow& row = trace.rows[r];
     append_number(out, row.time_s);
@@ -336,6 +343,8 @@ std::string trace_csv(const Trace& trace) {
       append_field(out, row.true_fixation_valid ? v : kNoValue);
     }
     append_field(out, row.fixation_error_m);
+    out += ',';
+    if (row.axis_object >= 0) out += trace.visit_objects[static_cast<std::size_t>(row.axis_object)];
     out += '\n';
   }
   return out;

@@ -66,6 +66,9 @@ struct TraceRow {
   std::array<double, 3> true_fixation_W_m{kNoValue, kNoValue, kNoValue};
   bool true_fixation_valid = false;
   double fixation_error_m = kNoValue;  ///< |believed - true| when both are valid.
+  /// Which of Trace::visit_objects the dominant eye's true optical axis meets first (its index),
+  /// -1 for none of them.
+  int axis_object = -1;
 };
 
 /// Both eyes rendered at one time by the ground truth (rig cameras at their intrinsics).
@@ -80,6 +83,8 @@ struct Trace {
   std::vector<std::string> joint_names;  ///< Rig order.
   int dominant_pan_joint = -1;           ///< Index into joint_names; -1 if not given.
   int verging_pan_joint = -1;
+  /// The scene objects whose visits are recorded (TraceRow::axis_object).
+  std::vector<std::string> visit_objects;
   std::vector<TraceRow> rows;
   std::vector<TraceJointSample> joints;
   std::vector<KeyFrame> key_frames;
@@ -128,6 +133,8 @@ struct TraceSources {
   std::string target_object;
   /// Times (s since the start) at which both eyes are rendered.
   std::vector<double> key_frame_times_s;
+  /// Scene objects whose visits by the dominant eye's axis are recorded (may be empty).
+  std::vector<std::string> visit_objects;
 };
 
 /// Records a Trace at the control rate. Evaluation, not control: update() reads the ground

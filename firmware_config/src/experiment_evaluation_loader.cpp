@@ -30,6 +30,12 @@ EvaluationConfig read_evaluation(MapReader evaluation, double duration_s,
   }
   config.pursuit_catch_up_s =
       evaluation.number_or("pursuit_catch_up_s", config.pursuit_catch_up_s, Range::non_negative());
+  config.visit_objects = evaluation.strings_or("visit_objects", {});
+  for (const std::string& name : config.visit_objects) {
+    find_scene_object(evaluation, "visit_objects", name, scene);
+  }
+  config.visit_dwell_s =
+      evaluation.number_or("visit_dwell_s", config.visit_dwell_s, Range::positive());
   evaluation.finish();
   return config;
 }

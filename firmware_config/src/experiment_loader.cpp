@@ -102,9 +102,19 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   std::vector<PendingPixelTarget> pixel_targets;
   if (config.task == ControlTask::kGaze) {
     if (auto gaze = experiment.optional_map("gaze")) config.gaze = read_gaze_task(std::move(*gaze));
-    config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
+    if (auto behaviour = experiment.optional_map("behaviour")) {
+      config.behaviour = read_behaviour(std::move(*behaviour), resolve);
+      // The gaze command channel has one writer: the behaviour or the script.
+      if (experiment.has("commands")) {
+        experiment.error("commands",
+                         "a run with a behaviour takes its gaze commands from it: give either "
+                         "behaviour or commands, not both");
+      }
+    } else {
+      config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
+    }
   } else {
-    for (const std::string_view key : {"gaze", "commands"}) {
+    for (const std::string_view key : {"gaze", "commands", "behaviour"}) {
       if (experiment.has(key)) {
         experiment.error(key, "only task gaze reads " + std::string(key) + " (task is hold)");
       }

@@ -5,9 +5,11 @@
 // MapReader client they record problems and return fallbacks; read_experiment throws them all.
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "cambio/config/behaviour_config.hpp"
 #include "cambio/config/experiment_evaluation.hpp"
 #include "cambio/config/gaze_task_config.hpp"
 #include "cambio/config/map_reader.hpp"
@@ -48,6 +50,10 @@ std::vector<GazeCommandConfig> read_gaze_commands(MapReader& experiment, double 
 
 /// Reports each pixel target outside `camera`'s image (the dominant eye's).
 void check_pixel_targets(std::vector<PendingPixelTarget>& pixels, const CameraConfig& camera);
+
+/// `behaviour:`; `resolve` turns a plugin's path into one relative to the experiment's folder.
+BehaviourConfig read_behaviour(MapReader behaviour,
+                               const std::function<std::string(const std::string&)>& resolve);
 
 /// `evaluation:` (all keys optional); `duration_s` as for read_gaze_commands.
 EvaluationConfig read_evaluation(MapReader evaluation, double duration_s,

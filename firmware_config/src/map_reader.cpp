@@ -567,6 +567,25 @@ std::vector<MapReader> MapReader::map_list(std::string_view key) {
   return readers;
 }
 
+std::vector<MapReader::ScalarEntry> MapReader::scalars() {
+  std::vector<ScalarEntry> entries;
+  if (!valid_) return entries;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    if (!it->first.IsScalar()) continue;  // A key that is no scalar is finish()'s to report.
+    const std::string key = it->first.Scalar();
+    read_keys_.emplace(key);
+    const Entry entry{it->first, it->second};
+    if (!it->second.IsScalar()) {
+      record(mark_of(entry), child_path(key),
+             "expected a number, text or true/false, found " + found(it->second));
+      continue;
+    }
+    const YAML::Mark at = it->first.Mark();
+    entries.push_back({key, it->second.Scalar(), at.is_null() || at.line < 0 ? 0 : at.line + 1});
+  }
+  return entries;
+}
+
 void MapReader::error(std::string_view key, std::string message) {
   if (!valid_ || key.empty()) {
     record(mark_, key_path_, std::move(message));

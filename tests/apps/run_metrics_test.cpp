@@ -249,6 +249,33 @@ TEST(RunMetricsTest, MetricsThatDoNotApplyAreAbsentWithAReason) {
   EXPECT_FALSE(compute_metrics(Trace{}, {}).find("final_max_abs_eye_pan_deg"));
 }
 
+TEST(RunMetricsTest, AnObjectIsVisitedOnceTheAxisRestsOnItOutsideSaccadesForTheDwell) {
+  // 0-0.3 s: a saccade across `a` (not a visit); 0.3-0.6 s: resting on `a` (visited once 0.2 s
+  // have passed, at 0.5 s); 0.6-0.7 s: on `b` for 0.1 s only; then on nothing; 1.0-1.4 s on `b`
+  // again (visited at 1.2 s); `c` is never met.
+  Trace trace = make_trace(1.5, [&](double t, TraceRow& row, auto&) {
+    const auto during = [&](double from, double to) { return t >= from - 1e-9 && t < to - 1e-9; };
+    row.saccade_active = during(0.0, 0.3);
+    if (during(0.0, 0.6)) row.axis_object = 0;
+    if (during(0.6, 0.7) || during(1.0, 1.4)) row.axis_object = 1;
+  });
+  trace.visit_objects = {"a", "b", "c"};
+  const auto visits = object_visit_times(trace, 0.2);
+  ASSERT_EQ(visits.size(), 3u);
+  ASSERT_TRUE(visits[0] && visits[1]);
+  EXPECT_NEAR(*visits[0], 0.5, 1e-9);
+  EXPECT_NEAR(*visits[1], 1.2, 1e-9);
+  EXPECT_FALSE(visits[2]);
+  MetricInputs inputs;
+  inputs.visit_dwell_s = 0.2;
+  RunMetrics metrics = compute_metrics(trace, inputs);
+  EXPECT_EQ(*metrics.find("objects_visited"), 2.0);
+  EXPECT_EQ(metrics.absent_reason("all_objects_visited_s"), "never visited: c");
+  trace.visit_objects = {"a", "b"};
+  metrics = compute_metrics(trace, inputs);
+  EXPECT_NEAR(*metrics.find("all_objects_visited_s"), 1.2, 1e-9);
+}
+
 TEST(RunMetricsTest, RefusesCommandsOutOfOrderAndBadThresholds) {
   const Trace trace = make_trace(0.1, [&](double, TraceRow&, auto&) {});
   MetricInputs inputs;

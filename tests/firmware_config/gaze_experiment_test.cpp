@@ -287,7 +287,7 @@ TEST_F(GazeExperiment, EveryShippedGazeExperimentLoadsWithItsTargets) {
       EXPECT_EQ(command.target.point_W_m[1], object->pose.xyz_m[1]) << entry.path();
     }
   }
-  EXPECT_EQ(gaze_experiments, 6);
+  EXPECT_EQ(gaze_experiments, 7);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -446,7 +446,8 @@ TEST_F(GazeExperiment, AnUnknownGoalMetricGetsASuggestion) {
             "saccade_duration_s, max_vergence_error_during_saccade_deg, reverge_time_s, "
             "pursuit_rms_error_deg, max_believed_vs_true_joint_error_rad, "
             "final_believed_vs_true_fixation_error_m, max_believed_vs_true_fixation_error_m, "
-            "final_max_abs_eye_pan_deg, max_verging_gaze_error_visible_deg, target_occluded_s");
+            "final_max_abs_eye_pan_deg, max_verging_gaze_error_visible_deg, target_occluded_s, "
+            "objects_visited, all_objects_visited_s");
 }
 
 TEST_F(GazeExperiment, AGoalIsAMaximumOrAMinimum) {
@@ -577,6 +578,71 @@ TEST_F(GazeExperiment, ASceneOverrideNeedsAScene) {
   EXPECT_EQ(found[0],
             "--set: scene.objects.0.xyz_m: the experiment names no scene (experiment.scene) to "
             "set it in");
+}
+
+}  // namespace
+}  // namespace cambio::config
+
+// ---------------------------------------------------------------------------------------------
+// A behaviour instead of commands
+
+namespace cambio::config {
+namespace {
+
+TEST_F(GazeExperiment, ABehaviourIsReadWithItsPluginsResolvedAndItsParamsAsWritten) {
+  const std::string plugin = folder_.write("libscan.so", "");
+  const std::filesystem::path folder = std::filesystem::path(plugin).parent_path();
+  const ExperimentConfig config = load_experiment_from_string(
+      text("  behaviour:\n"                                           // 7
+           "    name: scan\n"                                         // 8
+           "    rate_hz: 5\n"                                         // 9
+           "    plugins: [libscan.so]\n"                              // 10
+           "    params: {dwell_s: 0.25, map: log@1.4, on: true}\n"),  // 11
+      (folder / "e.yaml").string());
+  ASSERT_TRUE(config.behaviour.has_value());
+  const BehaviourConfig& behaviour = *config.behaviour;
+  EXPECT_EQ(behaviour.name, "scan");
+  EXPECT_EQ(behaviour.rate_hz, 5.0);
+  EXPECT_EQ(behaviour.plugins, (std::vector<std::string>{(folder / "libscan.so").string()}));
+  ASSERT_EQ(behaviour.params.size(), 3u);
+  EXPECT_EQ(behaviour.params[0].key, "dwell_s");
+  EXPECT_EQ(behaviour.params[0].text, "0.25");
+  EXPECT_EQ(behaviour.params[0].where, (folder / "e.yaml").string() + ":11");
+  EXPECT_EQ(behaviour.params[1].text, "log@1.4");
+  EXPECT_EQ(behaviour.params[2].text, "true");
+  EXPECT_TRUE(config.commands.empty());
+}
+
+TEST_F(GazeExperiment, ABehaviourSectionsProblemsAreEachAtTheirKey) {
+  const auto found = issues(
+      "  behaviour:\n"                     // 7
+      "    name: scan\n"                   // 8
+      "    rate: 5\n"                      // 9
+      "    plugins: [missing.so]\n"        // 10
+      "    params: {dwell_s: [1, 2]}\n" +  // 11
+      std::string(kHoldCommand));          // 12
+  ASSERT_EQ(found.size(), 4u) << joined(found);
+  EXPECT_NE(joined(found).find("/tmp/gaze.yaml:10:"), std::string::npos) << joined(found);
+  EXPECT_NE(joined(found).find("experiment.behaviour.plugins[0]: expected a readable shared "
+                               "library, found \"missing.so\" (resolved to \"/tmp/missing.so\")"),
+            std::string::npos)
+      << joined(found);
+  EXPECT_NE(joined(found).find("experiment.behaviour.params.dwell_s: expected a number, text or "
+                               "true/false, found a list"),
+            std::string::npos)
+      << joined(found);
+  EXPECT_NE(joined(found).find("experiment.behaviour.rate"), std::string::npos) << joined(found);
+  EXPECT_NE(joined(found).find("give either behaviour or commands, not both"), std::string::npos)
+      << joined(found);
+}
+
+TEST_F(GazeExperiment, TheShippedAttentionScanNamesTheBuiltInBehaviourAndItsObjects) {
+  const ExperimentConfig config =
+      load_experiment(find_shipped_config("experiments/attention_scan.yaml"));
+  ASSERT_TRUE(config.behaviour.has_value());
+  EXPECT_EQ(config.behaviour->name, "attention");
+  EXPECT_TRUE(config.behaviour->plugins.empty());
+  EXPECT_EQ(config.evaluation.visit_objects.size(), 4u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/behaviour_config.hpp"
 #include "cambio/config/experiment_evaluation.hpp"
 #include "cambio/config/gaze_task_config.hpp"
 #include "cambio/config/map_reader.hpp"
@@ -44,9 +45,13 @@ struct ExperimentConfig {
   /// The perception (SSM) settings file; empty: the shipped default.
   std::string perception_path;
   ControlTask task = ControlTask::kHold;
-  /// kGaze only: the gaze loop's settings and its commands (at least one, in time order).
+  /// kGaze only: the gaze loop's settings and its commands (in time order; at least one unless
+  /// a behaviour gives them).
   GazeTaskConfig gaze;
   std::vector<GazeCommandConfig> commands;
+  /// kGaze only: the behaviour that commands the gaze instead of `commands` (the two exclude
+  /// each other: the gaze command channel has one writer).
+  std::optional<BehaviourConfig> behaviour;
   EvaluationConfig evaluation;
   std::vector<GoalConfig> goals;  ///< In file order; empty: nothing scored by name.
   FaultRecoveryConfig fault_recovery;

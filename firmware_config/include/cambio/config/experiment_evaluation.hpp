@@ -14,7 +14,7 @@ namespace cambio::config {
 
 /// The metrics a run reports in summary.json (units in the name), and so the names `goals:` may
 /// use. apps/ computes them; a name added there is added here.
-inline constexpr std::array<std::string_view, 13> kExperimentMetricNames{
+inline constexpr std::array<std::string_view, 15> kExperimentMetricNames{
     "final_disparity_px",
     "true_gaze_error_deg",
     "settle_time_s",
@@ -28,6 +28,8 @@ inline constexpr std::array<std::string_view, 13> kExperimentMetricNames{
     "final_max_abs_eye_pan_deg",
     "max_verging_gaze_error_visible_deg",
     "target_occluded_s",
+    "objects_visited",
+    "all_objects_visited_s",
 };
 
 /// When the gaze counts as settled (settle_time_s, reverge_time_s): both bounds hold.
@@ -45,6 +47,12 @@ struct EvaluationConfig {
   SettleConfig settle;
   /// How long pursuit has to catch up after it starts before pursuit_rms_error_deg counts.
   double pursuit_catch_up_s = 0.5;
+  /// The scene objects a scan should visit (objects_visited, all_objects_visited_s); each
+  /// checked against the scene.
+  std::vector<std::string> visit_objects;
+  /// A visit: the dominant eye's true optical axis meets the object for at least this long
+  /// while the gaze loop reports no saccade (> 0).
+  double visit_dwell_s = 0.2;
 };
 
 enum class GoalBound : std::uint8_t {

@@ -126,6 +126,15 @@ class MapReader {
   std::vector<std::pair<std::string, MapReader>> named_maps(std::string_view key);
   /// A list of maps (`objects: [{...}, ...]`), each located at its own line.
   std::vector<MapReader> map_list(std::string_view key);
+  /// One entry of a map whose keys the reader does not know (a user behaviour's parameters).
+  struct ScalarEntry {
+    std::string key;
+    std::string text;  ///< The scalar as written.
+    int line = 0;      ///< 1-based; 0 when unknown.
+  };
+  /// Every entry of this map, in file order, each marked as read; a value that is not a scalar
+  /// (a list, a map, nothing) is reported at its key and left out.
+  std::vector<ScalarEntry> scalars();
 
   /// Records an issue located at `key` (or at this map if the key is absent or empty): for
   /// consistency checks that span several keys, e.g. "min_position_rad (1.2) is above

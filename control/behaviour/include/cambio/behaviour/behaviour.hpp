@@ -24,6 +24,9 @@ struct Observation {
   const perception::SsmFrame* ssm_frame = nullptr;  ///< Newest SSM frame with its feature maps.
   const control::GazeStatus* gaze = nullptr;        ///< Newest gaze loop status.
   const control::ArmStatus* arms = nullptr;         ///< Newest arm status (none on a head rig).
+  /// The names of the SSM's feature maps: ssm_frame->maps[eye].map(level, i) is map
+  /// feature_map_names[i] (e.g. "intensity", "log@1.4", "sobel_x"; firmware_config/perception).
+  std::span<const std::string> feature_map_names;
   /// Believed joint positions (encoders), rig order, and their names.
   std::span<const double> q_believed_rig_rad;
   std::span<const std::string> joint_names;

@@ -102,9 +102,10 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   std::vector<PendingPixelTarget> pixel_targets;
   if (config.task == ControlTask::kGaze) {
     if (auto gaze = experiment.optional_map("gaze")) config.gaze = read_gaze_task(std::move(*gaze));
+    if (auto arm = experiment.optional_map("arm")) config.arm = read_arm_task(std::move(*arm));
     config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
   } else {
-    for (const std::string_view key : {"gaze", "commands"}) {
+    for (const std::string_view key : {"gaze", "arm", "commands"}) {
       if (experiment.has(key)) {
         experiment.error(key, "only task gaze reads " + std::string(key) + " (task is hold)");
       }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/arm_task_config.hpp"
 #include "cambio/config/experiment_evaluation.hpp"
 #include "cambio/config/gaze_task_config.hpp"
 #include "cambio/config/map_reader.hpp"
@@ -46,6 +47,8 @@ struct ExperimentConfig {
   ControlTask task = ControlTask::kHold;
   /// kGaze only: the gaze loop's settings and its commands (at least one, in time order).
   GazeTaskConfig gaze;
+  /// kGaze only: the arms' reach settings (`arm:`), used when the rig has arms.
+  ArmTaskConfig arm;
   std::vector<GazeCommandConfig> commands;
   EvaluationConfig evaluation;
   std::vector<GoalConfig> goals;  ///< In file order; empty: nothing scored by name.

@@ -43,8 +43,8 @@ ReachCheck check_reach(const ArmChain& arm, const FingerGeometry& fingers, doubl
   }
   if (distance_m > reach_m) {
     say(result.message,
-        "out of reach: the target is %.3f m from the %s shoulder, the arm reaches %.3f m",
-        distance_m, arm.group.c_str(), reach_m);
+        "out of reach: the target is %.3f m from %s's shoulder, the arm reaches %.3f m", distance_m,
+        arm.group.c_str(), reach_m);
     return result;
   }
   const double r = std::hypot(d.x(), d.y());
@@ -106,7 +106,7 @@ ReachCheck check_reach(const ArmChain& arm, const FingerGeometry& fingers, doubl
   }
   if (!any_geometric) {
     say(result.message,
-        "out of reach: the target is %.3f m from the %s shoulder, too close for a hand pitch "
+        "out of reach: the target is %.3f m from %s's shoulder, too close for a hand pitch "
         "within %.0f deg of %.0f deg",
         distance_m, arm.group.c_str(), pitches.max_deviation_rad * kDegPerRad,
         pitches.preferred_rad * kDegPerRad);

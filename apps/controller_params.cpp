@@ -109,8 +109,9 @@ control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experim
   params.max_speed_m_s = arm.max_speed_m_s;
   params.max_acceleration_m_s2 = arm.max_acceleration_m_s2;
   params.probe_depth_m = arm.probe_depth_m;
+  params.approach_m = arm.approach_m;
   params.arrive_tolerance_m = arm.arrive_tolerance_m;
-  params.hand_pitch_gain_per_s = arm.hand_pitch_gain_per_s;
+  params.posture_gain_per_s = arm.posture_gain_per_s;
   params.gripper_speed_rad_s = arm.gripper_speed_rad_s;
   return params;
 }

@@ -35,12 +35,12 @@ ArmReachLoop::ArmReachLoop(const hal::HardwareInfo& hardware, const ArmReachPara
       pose_(pose) {
   if (!(params.gain_per_s > 0.0) || !(params.max_speed_m_s > 0.0) ||
       !(params.max_acceleration_m_s2 > 0.0) || !(params.probe_depth_m >= 0.0) ||
-      !(params.arrive_tolerance_m > 0.0) || !(params.hand_pitch_gain_per_s >= 0.0) ||
-      !(params.gripper_speed_rad_s > 0.0) || !(params.hand_pitches.step_rad > 0.0) ||
-      !(params.hand_pitches.max_deviation_rad >= 0.0)) {
+      !(params.arrive_tolerance_m > 0.0) || !(params.approach_m >= 0.0) ||
+      !(params.posture_gain_per_s >= 0.0) || !(params.gripper_speed_rad_s > 0.0) ||
+      !(params.hand_pitches.step_rad > 0.0) || !(params.hand_pitches.max_deviation_rad >= 0.0)) {
     throw std::invalid_argument(
         "arm loop: gain, speed, acceleration, tolerance, gripper speed and pitch step must be > "
-        "0, the probe depth, pitch gain and pitch range >= 0");
+        "0, the probe depth, approach, posture gain and pitch range >= 0");
   }
   const int rig_count = command_kinematics_.rig_joint_count();
   if (pose.count != rig_count || believed_.rig_joint_count() != rig_count) {
@@ -245,19 +245,35 @@ bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
   }
   (void)command_kinematics_.update(q_command_tree_);
   const Eigen::Vector3d tip = tip_W(command_kinematics_, arm);
-  const Eigen::Vector3d approach = target_W - tip;
-  const double length = approach.norm();
   arm.target_W = target_W;
   arm.aim_W = target_W;
-  arm.hand_pitch_rad = check.hand_pitch_rad;
-  if (length > 1e-9 && params_.probe_depth_m > 0.0) {
+  arm.q_goal_rad = check.q_rad;
+  arm.approaching = false;
+  // The way in: horizontal, from the shoulder's side of the target, as a level hand points.
+  Eigen::Vector3d in = target_W - arm.chain.shoulder_W;
+  in.z() = 0.0;
+  if (in.norm() > 1e-9 && params_.approach_m > 0.0) {
+    in.normalize();
+    const Eigen::Vector3d approach = target_W - params_.approach_m * in;
+    // Only where the arm can go, and only if the hand is not already past it.
+    if ((tip - target_W).dot(in) < -params_.approach_m &&
+        check_reach(arm.chain, params_.fingers, opening, approach, params_.hand_pitches)
+            .reachable) {
+      arm.approach_W = approach;
+      arm.approaching = true;
+    }
+  } else {
+    in = target_W - tip;
+    in = in.norm() > 1e-9 ? Eigen::Vector3d(in.normalized()) : Eigen::Vector3d::Zero();
+  }
+  if (params_.probe_depth_m > 0.0 && in.norm() > 0.0) {
     // The probe only where the arm can follow it; otherwise the reach ends at the target.
-    const Eigen::Vector3d aim = target_W + params_.probe_depth_m / length * approach;
+    const Eigen::Vector3d aim = target_W + params_.probe_depth_m * in;
     const ReachCheck aim_check =
         check_reach(arm.chain, params_.fingers, opening, aim, params_.hand_pitches);
     if (aim_check.reachable) {
       arm.aim_W = aim;
-      arm.hand_pitch_rad = aim_check.hand_pitch_rad;
+      arm.q_goal_rad = aim_check.q_rad;
     }
   }
   arm.move_joint = -1;
@@ -298,8 +314,12 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
   }
   (void)command_kinematics_.update(q_command_tree_);
   const Eigen::Vector3d tip = tip_W(command_kinematics_, arm);
-  const Eigen::Vector3d e_W = arm.aim_W - tip;
-  if (e_W.norm() <= params_.arrive_tolerance_m) {
+  // In front of the target near enough (a quarter of the approach): turn in without stopping.
+  if (arm.approaching && (arm.approach_W - tip).norm() <= 0.25 * params_.approach_m) {
+    arm.approaching = false;
+  }
+  const Eigen::Vector3d e_W = (arm.approaching ? arm.approach_W : arm.aim_W) - tip;
+  if (!arm.approaching && e_W.norm() <= params_.arrive_tolerance_m) {
     s.phase = ReachPhase::kArrived;
     return;
   }
@@ -311,12 +331,21 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
     const int column = chain.joints[at(k)];
     J_v.col(k) = J_W_.block<3, 1>(0, column) - r.cross(J_W_.block<3, 1>(3, column));
   }
-  // Secondary task: the gradient descent of (pitch - pitch_check)^2 / 2, the hand's pitch being
-  // the sum of the three pitch joints.
-  double pitch = 0.0;
-  for (std::size_t k = 1; k < 4; ++k) pitch += q_command_tree_[at(chain.joints[k])];
-  const Eigen::Vector4d u2 =
-      -params_.hand_pitch_gain_per_s * (pitch - arm.hand_pitch_rad) * Eigen::Vector4d(0, 1, 1, 1);
+  // Secondary task: toward the reach check's joints at the aim (within every limit), the
+  // gradient descent of |q - q_goal|^2 / 2. In the primary task's null space it only chooses
+  // among the ways to the same fingertip motion: the elbow and the wrist's pitch, which a
+  // minimum-norm law alone would drive into their limits on some ways in.
+  Eigen::Vector4d u2;
+  for (int k = 0; k < 4; ++k) {
+    u2[k] = -params_.posture_gain_per_s *
+            (q_command_tree_[at(chain.joints[at(k)])] - arm.q_goal_rad[at(k)]);
+  }
+  Eigen::Vector4d q, q_min, q_max;
+  for (int k = 0; k < 4; ++k) {
+    q[k] = q_command_tree_[at(chain.joints[at(k)])];
+    q_min[k] = chain.limits[at(k)].min_position_rad;
+    q_max[k] = chain.limits[at(k)].max_position_rad;
+  }
   // A joint at a limit that the law drives further out is taken out of the task (its column and
   // its secondary motion zeroed) and the law solved again by the joints left: otherwise it would
   // be clamped while the others move as if it had not been, off the straight line.
@@ -330,16 +359,15 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
       J_free.col(k).setZero();
       u2_free[k] = 0.0;
     }
-    if (!servo_->control_law(e_W, J_free, u2_free, qdot) || !qdot.allFinite()) {
+    if (!servo_->control_law(e_W, J_free, u2_free, q, q_min, q_max, qdot) || !qdot.allFinite()) {
       refuse(side, "the arm servo found no motion toward the target (a singular arm)");
       return;
     }
     bool again = false;
     for (int k = 0; k < 4; ++k) {
       const hal::JointLimits& limits = chain.limits[at(k)];
-      const double q = q_command_tree_[at(chain.joints[at(k)])];
-      if (!blocked[at(k)] && ((q <= limits.min_position_rad && qdot[k] < 0.0) ||
-                              (q >= limits.max_position_rad && qdot[k] > 0.0))) {
+      if (!blocked[at(k)] && ((q[k] <= limits.min_position_rad && qdot[k] < 0.0) ||
+                              (q[k] >= limits.max_position_rad && qdot[k] > 0.0))) {
         blocked[at(k)] = true;
         again = true;
       }
@@ -360,10 +388,10 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
   }
   for (std::size_t k = 0; k < 4; ++k) {
     const hal::JointLimits& limits = chain.limits[k];
-    double& q = q_command_tree_[at(chain.joints[k])];
+    double& q_k = q_command_tree_[at(chain.joints[k])];
     // Integrated on the clamped value: nothing winds up at a limit.
-    q = std::clamp(q + scale * qdot[static_cast<Eigen::Index>(k)] * dt_s, limits.min_position_rad,
-                   limits.max_position_rad);
+    q_k = std::clamp(q_k + scale * qdot[static_cast<Eigen::Index>(k)] * dt_s,
+                     limits.min_position_rad, limits.max_position_rad);
   }
 }
 

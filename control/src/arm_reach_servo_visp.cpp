@@ -24,6 +24,9 @@ struct ArmReachServoVisp::Task {
   // Not brace-initialised: ViSP's arrays take a brace list as their elements.
   vpMatrix eJe = vpMatrix(6, 4);
   vpColVector u2 = vpColVector(4);
+  vpColVector q = vpColVector(4);
+  vpColVector q_min = vpColVector(4);
+  vpColVector q_max = vpColVector(4);
 };
 
 ArmReachServoVisp::ArmReachServoVisp(double gain_per_s) : task_(std::make_unique<Task>()) {
@@ -42,7 +45,9 @@ ArmReachServoVisp::~ArmReachServoVisp() = default;
 
 bool ArmReachServoVisp::control_law(const Eigen::Vector3d& e_W,
                                     const Eigen::Matrix<double, 3, 4>& J_v,
-                                    const Eigen::Vector4d& u2, Eigen::Vector4d& qdot) {
+                                    const Eigen::Vector4d& u2, const Eigen::Vector4d& q_rad,
+                                    const Eigen::Vector4d& q_min_rad,
+                                    const Eigen::Vector4d& q_max_rad, Eigen::Vector4d& qdot) {
   Task& t = *task_;
   try {
     t.s.buildFrom(e_W.x(), e_W.y(), kZOffset_m + e_W.z());
@@ -52,11 +57,17 @@ bool ArmReachServoVisp::control_law(const Eigen::Vector3d& e_W,
         t.eJe[r + 3][c] = 0.0;  // T keeps the base's axes: no angular velocity.
       }
     }
-    for (unsigned c = 0; c < 4; ++c) t.u2[c] = u2(c);
+    for (unsigned c = 0; c < 4; ++c) {
+      t.u2[c] = u2(c);
+      t.q[c] = q_rad(c);
+      t.q_min[c] = q_min_rad(c);
+      t.q_max[c] = q_max_rad(c);
+    }
     t.servo.set_eJe(t.eJe);
     const vpColVector u1 = t.servo.computeControlLaw();
-    const vpColVector u_secondary = t.servo.secondaryTask(t.u2);
-    for (unsigned c = 0; c < 4; ++c) qdot(c) = u1[c] + u_secondary[c];
+    const vpColVector u = u1 + t.servo.secondaryTask(t.u2);
+    const vpColVector u_limits = t.servo.secondaryTaskJointLimitAvoidance(t.q, u, t.q_min, t.q_max);
+    for (unsigned c = 0; c < 4; ++c) qdot(c) = u[c] + u_limits[c];
   } catch (...) {  // vpException: a task ViSP cannot serve.
     return false;
   }

@@ -29,9 +29,15 @@ class ArmReachServoVisp {
   ArmReachServoVisp(const ArmReachServoVisp&) = delete;
   ArmReachServoVisp& operator=(const ArmReachServoVisp&) = delete;
 
-  /// qdot = lambda J_v^+ e + (I - J_v^+ J_v) u2 for e = target - tip (base frame, m).
+  /// qdot = lambda J_v^+ e + (I - J_v^+ J_v) u2 for e = target - tip (base frame, m), plus
+  /// ViSP's joint-limit avoidance (vpServo::secondaryTaskJointLimitAvoidance, Marey and
+  /// Chaumette, ICRA 2010) for joints `q_rad` within 10% of their range of `q_min_rad` or
+  /// `q_max_rad`: a joint that nears its limit is turned back within the null space instead of
+  /// being clamped there, where the arm would lose a degree of freedom.
   bool control_law(const Eigen::Vector3d& e_W, const Eigen::Matrix<double, 3, 4>& J_v,
-                   const Eigen::Vector4d& u2, Eigen::Vector4d& qdot);
+                   const Eigen::Vector4d& u2, const Eigen::Vector4d& q_rad,
+                   const Eigen::Vector4d& q_min_rad, const Eigen::Vector4d& q_max_rad,
+                   Eigen::Vector4d& qdot);
 
  private:
   struct Task;

@@ -14,10 +14,11 @@ ArmTaskConfig read_arm_task(MapReader arm) {
       arm.number_or("max_acceleration_m_s2", config.max_acceleration_m_s2, Range::positive());
   config.probe_depth_m =
       arm.number_or("probe_depth_m", config.probe_depth_m, Range::closed(0.0, 0.2));
+  config.approach_m = arm.number_or("approach_m", config.approach_m, Range::closed(0.0, 0.3));
   config.arrive_tolerance_m =
       arm.number_or("arrive_tolerance_m", config.arrive_tolerance_m, Range::positive());
-  config.hand_pitch_gain_per_s =
-      arm.number_or("hand_pitch_gain", config.hand_pitch_gain_per_s, Range::non_negative());
+  config.posture_gain_per_s =
+      arm.number_or("posture_gain", config.posture_gain_per_s, Range::non_negative());
   config.gripper_speed_rad_s =
       arm.number_or("gripper_speed_rad_s", config.gripper_speed_rad_s, Range::positive());
   arm.finish();

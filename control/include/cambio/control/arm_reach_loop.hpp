@@ -39,8 +39,13 @@ struct ArmReachParams {
   /// the stereo estimate puts there may lie a little behind it, and the touch is met at speed
   /// gain x probe instead of approached asymptotically. Without a touch the reach stops there.
   double probe_depth_m = 0.0;
-  double arrive_tolerance_m = 0.0;     ///< At the servo's aim within this: arrived.
-  double hand_pitch_gain_per_s = 0.0;  ///< Secondary task: the hand's pitch to the check's.
+  /// The fingertips first go to this far in front of the target, on the horizontal line from
+  /// the shoulder through it, then straight in: the fingers meet the surface head-on where the
+  /// estimate is, not at a graze from below. 0: straight from where the hand is.
+  double approach_m = 0.0;
+  double arrive_tolerance_m = 0.0;  ///< At the servo's aim within this: arrived.
+  /// Secondary task: the joints toward the reach check's solution at the aim (1/s).
+  double posture_gain_per_s = 0.0;
   HandPitchRange hand_pitches;
   double gripper_speed_rad_s = 0.0;  ///< Opening and closing.
 };
@@ -53,9 +58,11 @@ struct ArmReachParams {
 ///    other) is checked with check_reach() at the command: out of reach, beyond a joint limit or
 ///    no fixation refuse it (ArmStatus::message says why, the arm's phase is kRefused) before
 ///    anything moves. Then a position-based servo (ViSP, arm_reach_servo_visp.hpp) drives the
-///    fingertips' midpoint along a straight line to the target plus probe_depth_m, its speed
+///    fingertips' midpoint to approach_m in front of the target, then along a straight line to
+///    the target plus probe_depth_m, its speed
 ///    gain x distance (slowing near the target), capped and ramped, every joint within its
-///    velocity and position limits, the hand's pitch to the check's as its secondary task. The
+///    velocity and position limits, the joints drawn toward the check's solution as its secondary
+///    task. The
 ///    servo runs on the commanded pose (the robot's intent): the drives' lag does not feed back
 ///    into the law. When the arm's touch sensor reports contact the arm stops where it is
 ///    believed to be (touch_ns recorded, phase kTouching) and the gripper closes; at the aim
@@ -100,10 +107,12 @@ class ArmReachLoop final : public hal::Loop {
     bool present = false;
     ArmChain chain;
     hal::TouchSensor* touch = nullptr;
-    int wrist_frame = 0;                                 // Kinematics frame of the wrist link.
-    Eigen::Vector3d target_W = Eigen::Vector3d::Zero();  // The estimate reached for.
-    Eigen::Vector3d aim_W = Eigen::Vector3d::Zero();     // target_W + the probe.
-    double hand_pitch_rad = 0.0;                         // The check's.
+    int wrist_frame = 0;                                   // Kinematics frame of the wrist link.
+    Eigen::Vector3d target_W = Eigen::Vector3d::Zero();    // The estimate reached for.
+    Eigen::Vector3d aim_W = Eigen::Vector3d::Zero();       // target_W + the probe.
+    Eigen::Vector3d approach_W = Eigen::Vector3d::Zero();  // In front of target_W.
+    bool approaching = false;            // On the way to approach_W, before going in.
+    std::array<double, 4> q_goal_rad{};  // The check's joints at the aim.
     double gripper_goal_rad = 0.0;
     int move_joint = -1;  // Tree index of a kMoveJoint in progress.
     double move_goal_rad = 0.0;

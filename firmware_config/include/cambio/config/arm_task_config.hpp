@@ -17,9 +17,11 @@ struct ArmTaskConfig {
   double max_acceleration_m_s2 = 2.0;  ///< The cap's ramp from the command.
   /// How far past the target the servo aims (a guarded move: the touch stops it first).
   double probe_depth_m = 0.03;
-  double arrive_tolerance_m = 0.002;   ///< At the aim within this without a touch: arrived.
-  double hand_pitch_gain_per_s = 2.0;  ///< The hand's pitch to the reach check's.
-  double gripper_speed_rad_s = 1.5;    ///< Opening and closing.
+  /// How far in front of the target the fingertips go first, to meet it head-on.
+  double approach_m = 0.08;
+  double arrive_tolerance_m = 0.002;  ///< At the aim within this without a touch: arrived.
+  double posture_gain_per_s = 2.0;    ///< The joints toward the reach check's solution.
+  double gripper_speed_rad_s = 1.5;   ///< Opening and closing.
 };
 
 /// Mirrors control::ArmAction (the actions a script may send).

@@ -76,10 +76,10 @@ class GroundTruth {
   double distance_to_object_m(const std::string& object_name, const Eigen::Vector3d& p_W);
   /// The gap between a touch sensor's end effector (World::end_effector_bodies of `link_name`:
   /// what the sensor feels) and a scene object (m): the smallest signed distance from its
-  /// colliding geometry to the object's surface, boxes taken at their corners, capsules and
-  /// cylinders along their axis less the radius, spheres at their centre less the radius;
-  /// negative when they overlap (a contact's depth). Throws std::out_of_range for an unknown
-  /// link or object.
+  /// colliding geometry to the object's surface and back, boxes sampled along their edges,
+  /// capsules and cylinders along their axis less the radius, spheres at their centre less the
+  /// radius (within an eighth of a box edge where two edges cross); negative when they overlap
+  /// (a contact's depth). Throws std::out_of_range for an unknown link or object.
   double end_effector_gap_m(const std::string& link_name, const std::string& object_name);
 
   /// Renders a view of the newest state: a rig camera at its intrinsics (width, height 0) or

@@ -8,6 +8,7 @@ namespace cambio::control {
 namespace {
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 template <class... Args>
 void say(std::array<char, 160>& message, const char* format, Args... args) noexcept {
@@ -73,9 +74,11 @@ ReachCheck check_reach(const ArmChain& arm, const FingerGeometry& fingers, doubl
     const double c2 = (wx * wx + wz * wz - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
     if (c2 < -1.0 || c2 > 1.0) continue;
     // The elbow bends downward (q_elbow >= 0), the branch its limits allow on this arm.
+    // Angles in (-pi, pi]: every limit lies within, and a difference of atan2s may not.
     const double q2 = std::acos(c2);
-    const double q1 = std::atan2(wz, wx) - std::atan2(l2 * std::sin(q2), l1 + l2 * std::cos(q2));
-    const double q3 = phi - q1 - q2;
+    const double q1 = std::remainder(
+        std::atan2(wz, wx) - std::atan2(l2 * std::sin(q2), l1 + l2 * std::cos(q2)), kTwoPi);
+    const double q3 = std::remainder(phi - q1 - q2, kTwoPi);
     const std::array<double, 4> q{yaw, q1, q2, q3};
     int beyond = -1;
     for (int j = 1; j < 4; ++j) {

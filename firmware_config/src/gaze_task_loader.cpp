@@ -226,7 +226,10 @@ std::vector<GazeCommandConfig> read_gaze_commands(MapReader& experiment, double 
     }
     // An arm action instead (the arms' loop takes it): one action per entry all the same.
     for (const std::string_view key : {"reach", "grasp", "release"}) {
-      if (!entry.has(key)) continue;
+      if (!entry.has(key)) {
+        (void)entry.text_or(key, {});  // Looked up, so that a misspelt one is offered it.
+        continue;
+      }
       if (action || command.arm) {
         entry.error(key, "expected one action per command, found " + std::string(action_key) +
                              " and " + std::string(key));
@@ -240,6 +243,7 @@ std::vector<GazeCommandConfig> read_gaze_commands(MapReader& experiment, double 
                   "expected arm only beside reach (grasp and release name their arm as "
                   "their value)");
     }
+    (void)entry.text_or("arm", {});  // Read (reported above if misplaced), or offered if misspelt.
     if (!action && !command.arm) {
       entry.error("", std::string(kMissingKey) +
                           " (expected one action: fixate, saccade, pursue, hold, reach, grasp or "

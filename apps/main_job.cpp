@@ -213,8 +213,10 @@ void MainJob::build_loops() {
     gaze_loop_ = loop.get();
     control_loop_ = std::move(loop);
     // The script runs at the control rate, before the gaze loop in each lockstep tick.
+    const bool has_arms = !arm_groups_[0].empty() || !arm_groups_[1].empty();
+    // Without arms an arm entry would go to a channel nobody reads: the script refuses it.
     script_ = std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_,
-                                                       &arm_commands_);
+                                                       has_arms ? &arm_commands_ : nullptr);
     executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
     build_arm_loop(pose, std::move(sources));
   } else {

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -148,6 +149,16 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   if (config.task != ControlTask::kHold && !config.rig.stereo) {
     experiment.error("task", "expected a rig with a stereo pair for the " + task +
                                  " task, found none in " + config.rig_path);
+  }
+  const bool scripts_arms =
+      std::any_of(config.commands.begin(), config.commands.end(),
+                  [](const GazeCommandConfig& c) { return c.arm.has_value(); });
+  if (scripts_arms && config.rig.touch_sensors.empty()) {
+    experiment.error("commands",
+                     "expected a rig with arms for reach, grasp or release (an arm "
+                     "group with a touch sensor on its gripper), found no touch "
+                     "sensor in " +
+                         config.rig_path);
   }
   if (config.rig.stereo && !pixel_targets.empty()) {
     const StereoConfig& stereo = *config.rig.stereo;

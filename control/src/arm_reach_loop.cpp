@@ -216,17 +216,21 @@ void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcep
               (target_W - arms_[0].chain.shoulder_W).norm()) {
         first = 1;
       }
+      // A refusal the other arm makes good is no refusal: the nearer arm's status and the
+      // message are put back as they were.
+      const ArmStatus::Arm first_before = status_.arms[at(first)];
+      const std::array<char, 160> message_before = status_.message;
       if (start_reach(first, target_W, now_ns)) break;
-      const ArmStatus::Arm first_status = status_.arms[at(first)];
       const std::array<char, 160> first_message = status_.message;
       const int second = 1 - first;
       if (!arms_[at(second)].present) break;
-      const ArmStatus::Arm second_status = status_.arms[at(second)];
+      const ArmStatus::Arm second_before = status_.arms[at(second)];
       if (start_reach(second, target_W, now_ns)) {
-        status_.arms[at(first)] = first_status;
+        status_.arms[at(first)] = first_before;
+        status_.message = message_before;
         break;
       }
-      status_.arms[at(second)] = second_status;
+      status_.arms[at(second)] = second_before;
       status_.message = first_message;
       break;
     }

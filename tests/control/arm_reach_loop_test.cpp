@@ -333,6 +333,21 @@ TEST(ArmReachLoop, RefusesOutOfReachAndBeyondALimitBeforeMoving) {
   EXPECT_EQ(arm.q_arm(1), right_before);
 }
 
+TEST(ArmReachLoop, NearestFallsBackToTheOtherArmWithoutARefusal) {
+  ArmHarness arm;
+  // Nearer the left shoulder, but beyond the left arm's limits (check_reach says which); the
+  // right arm can take it: it does, and the nearer arm's refusal is not reported.
+  const Eigen::Vector3d target(0.2, 0.04, 1.2);
+  ASSERT_LT((target - arm.arm(0).shoulder_W).norm(), (target - arm.arm(1).shoulder_W).norm());
+  ASSERT_FALSE(check_reach(arm.arm(0), kFingers, 20.0 * kDeg, target, {}).reachable);
+  arm.command(ArmAction::kReach, ArmSide::kNearest, ReachTargetKind::kPoint, target);
+  arm.step();
+  const ArmStatus status = arm.status();
+  EXPECT_EQ(status.arms[0].phase, ReachPhase::kIdle);
+  EXPECT_EQ(status.arms[1].phase, ReachPhase::kReaching);
+  EXPECT_EQ(status.refusal(), "");
+}
+
 TEST(ArmReachLoop, MovesOneJointClampedToItsLimit) {
   ArmHarness arm;
   const int elbow = arm.arm(1).rig[2];

@@ -235,8 +235,7 @@ int run_console_command(std::span<const std::string> args) {
     return kExitBadInput;
   }
 
-  // A behaviour writes the gaze commands through actions of its own: the channel takes one
-  // writer, so the console does not run beside it.
+  // A behaviour decides what the robot does; typed commands would fight it for the gaze.
   if (experiment.behaviour) {
     std::cerr << "cambio console: " << experiment.name << " runs the behaviour '"
               << experiment.behaviour->name
@@ -261,27 +260,17 @@ int run_console_command(std::span<const std::string> args) {
     std::cerr << "cambio console: " << error.what() << "\n";
     return kExitDeviceFault;
   }
-  if (job->gaze_commands() == nullptr) {
+  if (job->actions() == nullptr) {
     std::cerr << "cambio console: " << experiment.name
               << ": the console drives the gaze task; this experiment's task is not gaze\n";
     return kExitBadInput;
   }
 
-  const hal::HardwareInfo& hardware = job->hardware();
-  const hal::Eye dominant = experiment.gaze.dominant_eye;
-  const hal::CameraInfo* eye = hardware.find_camera(
-      dominant == hal::Eye::kLeft ? hardware.stereo->left_camera : hardware.stereo->right_camera);
-  RobotActions::Setup setup;
-  setup.rig_joint_order = job->joint_order();
-  setup.head_joints = job->head_joint_names();
-  setup.image_width_px = eye->intrinsics.width_px;
-  setup.image_height_px = eye->intrinsics.height_px;
-  RobotActions actions(hardware, setup, {job->gaze_commands(), nullptr, job->feature_requests()});
   std::vector<std::string> objects;
   if (experiment.scene) {
     for (const auto& object : experiment.scene->objects) objects.push_back(object.name);
   }
-  ConsoleSession session(*job, actions, objects, std::cout);
+  ConsoleSession session(*job, *job->actions(), objects, std::cout);
 
   const bool interactive = isatty(STDIN_FILENO) != 0;
   std::cerr << "cambio console: " << experiment.name << " on rig '" << experiment.rig.name << "', "

@@ -60,6 +60,15 @@ ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64
     }
     gaze_rejections_seen_ = rejected;
   }
+  if (const auto* arm_status = job_.arm_status()) {
+    control::ArmStatus arms;
+    if (arm_status->read(arms) && arms.commands_applied != arm_commands_seen_) {
+      arm_commands_seen_ = arms.commands_applied;
+      const bool refused = arms.arms[0].phase == control::ReachPhase::kRefused ||
+                           arms.arms[1].phase == control::ReachPhase::kRefused;
+      if (refused) out_ << "note: the arms refused: " << arms.refusal() << "\n";
+    }
+  }
   const auto parsed = console::parse(line);
   if (!parsed) return {};
   if (const auto* error = std::get_if<console::ParseError>(&*parsed)) {
@@ -198,6 +207,24 @@ void ConsoleSession::print_status(std::int64_t now_ns) {
         out_ << format("believed fixation (stereo): (%.3f, %.3f, %.3f) m\n", p[0], p[1], p[2]);
       } else {
         out_ << "believed fixation (stereo): none (the eyes' axes do not meet)\n";
+      }
+    }
+  }
+  if (const auto* arm_status = job_.arm_status()) {
+    control::ArmStatus arms;
+    if (arm_status->read(arms) && arms.stamp_ns > 0) {
+      for (int side = 0; side < 2; ++side) {
+        const control::ArmStatus::Arm& arm = arms.arms[static_cast<std::size_t>(side)];
+        const auto& g = arm.gripper_W_m;
+        out_ << format("%s arm: %s, gripper %s at (%.3f, %.3f, %.3f) m",
+                       side == 0 ? "left" : "right", reach_phase_name(arm.phase),
+                       arm.gripper_closed ? "closed" : "open", g[0], g[1], g[2]);
+        if (arm.phase == control::ReachPhase::kReaching ||
+            arm.phase == control::ReachPhase::kTouching ||
+            arm.phase == control::ReachPhase::kArrived) {
+          out_ << format(", %.3f m from its target", arm.distance_to_target_m);
+        }
+        out_ << "\n";
       }
     }
   }

@@ -50,6 +50,7 @@ class ConsoleSession {
   std::uint64_t lines_refused_ = 0;
   bool features_requested_ = false;
   std::uint64_t gaze_rejections_seen_ = 0;
+  std::uint64_t arm_commands_seen_ = 0;
 };
 
 }  // namespace cambio::app

@@ -98,12 +98,72 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
   return params;
 }
 
+control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
+                                         std::array<std::string, 2> groups,
+                                         const control::FingerGeometry& fingers) {
+  const config::ArmTaskConfig& arm = experiment.arm;
+  control::ArmReachParams params;
+  params.groups = std::move(groups);
+  params.fingers = fingers;
+  params.gain_per_s = arm.gain_per_s;
+  params.max_speed_m_s = arm.max_speed_m_s;
+  params.max_acceleration_m_s2 = arm.max_acceleration_m_s2;
+  params.probe_depth_m = arm.probe_depth_m;
+  params.approach_m = arm.approach_m;
+  params.arrive_tolerance_m = arm.arrive_tolerance_m;
+  params.posture_gain_per_s = arm.posture_gain_per_s;
+  params.gripper_speed_rad_s = arm.gripper_speed_rad_s;
+  return params;
+}
+
+namespace {
+
+control::ArmSide arm_side(config::ArmSideConfig side) {
+  switch (side) {
+    case config::ArmSideConfig::kLeft:
+      return control::ArmSide::kLeft;
+    case config::ArmSideConfig::kRight:
+      return control::ArmSide::kRight;
+    case config::ArmSideConfig::kNearest:
+      break;
+  }
+  return control::ArmSide::kNearest;
+}
+
+control::ArmCommand arm_command(const config::ArmCommandConfig& config) {
+  control::ArmCommand command;
+  command.arm = arm_side(config.arm);
+  switch (config.action) {
+    case config::ArmActionConfig::kReach:
+      command.action = control::ArmAction::kReach;
+      command.target = config.to_fixation ? control::ReachTargetKind::kFixation
+                                          : control::ReachTargetKind::kPoint;
+      command.point_W_m = config.point_W_m;
+      break;
+    case config::ArmActionConfig::kGrasp:
+      command.action = control::ArmAction::kGrasp;
+      break;
+    case config::ArmActionConfig::kRelease:
+      command.action = control::ArmAction::kRelease;
+      break;
+  }
+  return command;
+}
+
+}  // namespace
+
 std::vector<control::CommandScript::Entry> command_script(
     const config::ExperimentConfig& experiment) {
   std::vector<control::CommandScript::Entry> entries;
   for (const auto& command : experiment.commands) {
     control::CommandScript::Entry entry;
     entry.at_s = command.at_s;
+    if (command.arm) {
+      entry.to_arms = true;
+      entry.arm_command = arm_command(*command.arm);
+      entries.push_back(entry);
+      continue;
+    }
     entry.command.action = gaze_action(command.action);
     entry.command.target = gaze_target(command.target);
     entry.command.verge = command.verge;

@@ -2,6 +2,7 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_config.hpp"
+#include "cambio/control/arm_reach_loop.hpp"
 #include "cambio/control/command_script.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
@@ -27,6 +28,12 @@ control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
 /// length. Throws std::runtime_error if the rig has no stereo pair.
 control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
                                          const hal::HardwareInfo& hardware);
+
+/// The arm loop of a `task: gaze` experiment on a rig with arms: its `arm:` settings, the arms'
+/// groups ([0] left, [1] right; "" for none) and the hand's fingers.
+control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
+                                         std::array<std::string, 2> groups,
+                                         const control::FingerGeometry& fingers);
 
 /// The config's name for a gaze action as the gaze loop's (the same enumerators).
 control::GazeAction gaze_action(config::GazeAction action);

@@ -13,6 +13,7 @@
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/sim_backend.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
@@ -88,7 +89,46 @@ void MainJob::build_backends(const hal::BackendFactory& factory) {
     }
     driven_groups_.push_back(driven);
   }
+  if (experiment_.task == config::ControlTask::kGaze) make_touch_sensors();
   for (auto& [name, backend] : backends_) backend->configure();
+}
+
+void MainJob::make_touch_sensors() {
+  // An arm reaches when its group is shaped as control::ArmChain and its gripper carries a touch
+  // sensor; its side is where its shoulder is (y > 0: left).
+  for (const auto& sensor : hardware_.touch_sensors) {
+    const hal::JointInfo* gripper = hardware_.find_joint(sensor.parent);
+    const auto backend = backends_.find(sensor.backend);
+    if (gripper == nullptr || backend == backends_.end()) continue;
+    control::ArmChain chain;
+    try {
+      chain = control::find_arm_chain(hardware_, gripper->group);
+    } catch (const std::invalid_argument& error) {
+      std::cerr << "cambio: warning: touch sensor '" << sensor.name << "': " << error.what()
+                << "; that arm does not reach\n";
+      continue;
+    }
+    if (chain.names[4] != sensor.parent) continue;
+    const std::size_t side = chain.shoulder_W.y() > 0.0 ? 0 : 1;
+    if (touch_sensors_[side]) continue;
+    touch_sensors_[side] = backend->second->make_touch_sensor(sensor.name);
+    arm_groups_[side] = gripper->group;
+  }
+}
+
+void MainJob::build_arm_loop(const control::JointTargetFrame& pose,
+                             std::vector<control::BelievedJoints::Source> sources) {
+  if (arm_groups_[0].empty() && arm_groups_[1].empty()) return;
+  const control::FingerGeometry fingers{sim::kFingerTipX_m, sim::kFingerTipY_m};
+  arm_loop_ = std::make_unique<control::ArmReachLoop>(
+      hardware_, arm_reach_params(experiment_, arm_groups_, fingers), pose,
+      control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
+      &gaze_loop_->status(), arm_commands_,
+      std::array<hal::TouchSensor*, 2>{touch_sensors_[0].get(), touch_sensors_[1].get()});
+  // The gaze loop publishes every joint's target: it takes the arms' from the arm loop, which
+  // runs before it in each control tick (same rate and priority run in the order added).
+  gaze_loop_->set_overlay(&arm_loop_->targets(), arm_loop_->arm_rig_indices());
+  executor_->add_loop({arm_loop_.get(), loop_schedule(experiment_.rig, "control")});
 }
 
 int MainJob::joint_index(const std::string& joint_name) const {
@@ -173,18 +213,22 @@ void MainJob::build_loops() {
     for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
     auto loop = std::make_unique<control::GazeLoop>(
         hardware_, gaze_loop_params(experiment_, hardware_), pose,
-        control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
+        control::BelievedJoints(sources, static_cast<int>(joint_order_.size())),
         perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
     gaze_loop_ = loop.get();
     gaze_loop_->set_extra_features(&feature_requests_);
     control_loop_ = std::move(loop);
     // The script runs at the control rate, before the gaze loop in each lockstep tick. A
     // behaviour takes its place as the gaze commands' writer (the loader allows only one).
+    const bool has_arms = !arm_groups_[0].empty() || !arm_groups_[1].empty();
     if (options_.send_script && !experiment_.behaviour) {
-      script_ =
-          std::make_unique<control::CommandScript>(command_script(experiment_), gaze_commands_);
+      // Without arms an arm entry would go to a channel nobody reads: the script refuses it.
+      script_ = std::make_unique<control::CommandScript>(
+          command_script(experiment_), gaze_commands_, has_arms ? &arm_commands_ : nullptr);
       executor_->add_loop({script_.get(), loop_schedule(rig, "control")});
     }
+    build_arm_loop(pose, std::move(sources));
+    build_actions();
   } else {
     control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
   }
@@ -205,6 +249,23 @@ void MainJob::build_loops() {
   }
 }
 
+void MainJob::build_actions() {
+  // One set of actions for whoever commands the robot (a behaviour, the console): they write
+  // the loops' single-writer channels under one lock.
+  const hal::Eye dominant = experiment_.gaze.dominant_eye;
+  const hal::CameraInfo* eye = hardware_.find_camera(
+      dominant == hal::Eye::kLeft ? hardware_.stereo->left_camera : hardware_.stereo->right_camera);
+  RobotActions::Setup setup;
+  setup.rig_joint_order = joint_order_;
+  setup.head_joints = head_joint_names();
+  setup.image_width_px = eye->intrinsics.width_px;
+  setup.image_height_px = eye->intrinsics.height_px;
+  actions_ = std::make_unique<RobotActions>(
+      hardware_, std::move(setup),
+      RobotActions::Channels{&gaze_commands_, arm_loop_ ? &arm_commands_ : nullptr,
+                             &feature_requests_});
+}
+
 void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
   const config::BehaviourConfig& config = *experiment_.behaviour;
   // The loader allows a behaviour with the gaze task only, which needs the stereo pair.
@@ -223,23 +284,12 @@ void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
   } catch (const std::exception& error) {
     throw BehaviourSetupError(experiment_.source_file + ": behaviour: " + error.what());
   }
-  // The behaviour acts through the same actions the console uses (no arm controller yet).
   const hal::Eye dominant = experiment_.gaze.dominant_eye;
-  const hal::CameraInfo* eye = hardware_.find_camera(
-      dominant == hal::Eye::kLeft ? hardware_.stereo->left_camera : hardware_.stereo->right_camera);
-  RobotActions::Setup setup;
-  setup.rig_joint_order = joint_order_;
-  setup.head_joints = head_joint_names();
-  setup.image_width_px = eye->intrinsics.width_px;
-  setup.image_height_px = eye->intrinsics.height_px;
-  actions_ = std::make_unique<RobotActions>(
-      hardware_, std::move(setup),
-      RobotActions::Channels{&gaze_commands_, nullptr, &feature_requests_});
-
   behaviour::BehaviourLoopSources sources;
   sources.ssm = &perception_loop_->summaries();
   sources.ssm_frames = [server = perception_loop_.get()] { return &server->frames(); };
   sources.gaze = &gaze_loop_->status();
+  if (arm_loop_) sources.arms = &arm_loop_->status();
   for (const auto& spec : perception::feature_map_specs(ssm.operators)) {
     sources.feature_map_names.push_back(spec.name);
   }
@@ -279,6 +329,15 @@ void MainJob::build_trace() {
   sources.target_object = experiment_.evaluation.target_object;
   sources.key_frame_times_s = experiment_.evaluation.key_frames_s;
   sources.visit_objects = experiment_.evaluation.visit_objects;
+  if (arm_loop_) {
+    sources.arms = &arm_loop_->status();
+    for (int side = 0; side < 2; ++side) {
+      if (const control::ArmChain* chain = arm_loop_->arm(side)) {
+        sources.arm_chains[static_cast<std::size_t>(side)] = *chain;
+      }
+    }
+    sources.fingers = {sim::kFingerTipX_m, sim::kFingerTipY_m};
+  }
   // At the control rate, but as evaluation: never at a real-time priority or pinned beside the
   // loops it watches (its ground-truth queries and key-frame renders take milliseconds).
   runtime::LoopSchedule schedule = loop_schedule(experiment_.rig, "control");
@@ -417,6 +476,7 @@ void MainJob::collect(MainJobResult& result) {
     result.gaze_corrections = gaze_loop_->corrections();
     result.gaze_measurements = gaze_loop_->measurements();
     if (script_) {
+      result.script_start_ns = script_->start_ns();
       for (const std::int64_t sent_ns : script_->sent_ns()) {
         result.command_sent_s.push_back(
             sent_ns < 0 ? -1.0 : static_cast<double>(sent_ns - script_->start_ns()) * 1e-9);
@@ -432,6 +492,13 @@ void MainJob::collect(MainJobResult& result) {
     report.failed = behaviour_loop_->failed();
     report.error = behaviour_loop_->error();
     result.behaviour = std::move(report);
+  }
+  if (arm_loop_) {
+    control::ArmStatus status;
+    if (arm_loop_->status().read(status)) result.arms = status;
+    for (int side = 0; side < 2; ++side) {
+      result.arm_present[static_cast<std::size_t>(side)] = arm_loop_->arm(side) != nullptr;
+    }
   }
   if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
     const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <map>
@@ -13,6 +14,7 @@
 #include "cambio/behaviour/plugin_libraries.hpp"
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/experiment_config.hpp"
+#include "cambio/control/arm_reach_loop.hpp"
 #include "cambio/control/command_script.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
@@ -26,6 +28,7 @@
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
 #include "cambio/sim/ground_truth.hpp"
+#include "robot_actions.hpp"
 #include "run_trace.hpp"
 
 namespace cambio::app {
@@ -75,6 +78,10 @@ struct MainJobResult {
   std::uint64_t gaze_measurements = 0;
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
+  std::int64_t script_start_ns = 0;  ///< The script's time 0 on the run's clock.
+  /// If the run had an arm loop: its last status, and which sides it has ([0] left, [1] right).
+  std::optional<control::ArmStatus> arms;
+  std::array<bool, 2> arm_present{};
   std::vector<CanGroupReport> can_groups;    ///< One per socketcan group.
   std::optional<BehaviourReport> behaviour;  ///< If the experiment has one.
   /// What the sim's cameras rendered with; none when the run made no renderer.
@@ -153,6 +160,17 @@ class MainJob {
   /// What the run recorded at the control rate with the simulator's ground truth (trace.csv,
   /// metrics, plots); null when the rig has no sim backend or no stereo pair. Read after run().
   const Trace* trace() const { return trace_ ? &trace_->trace() : nullptr; }
+  /// Where a console or behaviour sends the arms their commands (ArmCommand: a new sequence is a
+  /// new command). Read only when the run has an arm loop (arm_status() not null).
+  hal::SeqlockChannel<control::ArmCommand>& arm_commands() { return arm_commands_; }
+  /// The robot's actions on this run's command channels (what behaviours and the console use);
+  /// null unless the task is gaze.
+  RobotActions* actions() { return actions_.get(); }
+  /// The arms' status each control cycle; null when the run has no arm loop (not task gaze, or
+  /// no arm group with a touch sensor on its gripper).
+  const hal::SeqlockChannel<control::ArmStatus>* arm_status() const {
+    return arm_loop_ ? &arm_loop_->status() : nullptr;
+  }
   /// The head's joints in the trace (pan/tilt of neck and eyes), for plots.
   std::vector<std::string> head_joint_names() const;
   /// Paced by the wall clock (realtime executor) rather than simulated time.
@@ -165,8 +183,12 @@ class MainJob {
   void build_backends(const hal::BackendFactory& factory);
   void build_loops();
   void build_trace();
+  void build_actions();
   void build_behaviour(const perception::SsmConfig& ssm);
   void collect(MainJobResult& result);
+  void make_touch_sensors();
+  void build_arm_loop(const control::JointTargetFrame& pose,
+                      std::vector<control::BelievedJoints::Source> sources);
   int joint_index(const std::string& joint_name) const;
 
   config::ExperimentConfig experiment_;
@@ -196,8 +218,13 @@ class MainJob {
   control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
   hal::SeqlockChannel<perception::FeatureRequest> feature_requests_;
-  std::unique_ptr<control::CommandScript> script_;  // The experiment's timed gaze commands.
-  std::unique_ptr<TraceRecorder> trace_;            // Evaluation: believed vs true, per cycle.
+  std::unique_ptr<control::CommandScript> script_;  // The experiment's timed commands.
+  // The arms: their touch sensors by side ([0] left, [1] right), the loop, its commands.
+  std::array<std::unique_ptr<hal::TouchSensor>, 2> touch_sensors_;
+  std::array<std::string, 2> arm_groups_;
+  hal::SeqlockChannel<control::ArmCommand> arm_commands_;
+  std::unique_ptr<control::ArmReachLoop> arm_loop_;
+  std::unique_ptr<TraceRecorder> trace_;  // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
 
@@ -206,7 +233,7 @@ class MainJob {
   std::unique_ptr<behaviour::PluginLibraries> plugins_;
   std::unique_ptr<behaviour::BehaviourRegistry> registry_;
   std::unique_ptr<behaviour::Behaviour> behaviour_;
-  std::unique_ptr<behaviour::Actions> actions_;  // RobotActions on this run's channels.
+  std::unique_ptr<RobotActions> actions_;  // On this run's channels; null unless task gaze.
   std::unique_ptr<behaviour::BehaviourLoop> behaviour_loop_;
 };
 

@@ -84,6 +84,29 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                          {"failed", behaviour.failed},
                          {"error", behaviour.failed ? Json(behaviour.error) : Json(nullptr)}};
   }
+  if (result.arms) {
+    const control::ArmStatus& arms = *result.arms;
+    Json sides = Json::object();
+    for (std::size_t side = 0; side < 2; ++side) {
+      if (!result.arm_present[side]) continue;
+      const control::ArmStatus::Arm& arm = arms.arms[side];
+      const auto seconds = [&](std::int64_t ns) {
+        return ns == 0 ? Json(nullptr)
+                       : Json(static_cast<double>(ns - result.script_start_ns) * 1e-9);
+      };
+      sides[side == 0 ? "left" : "right"] = {{"phase", reach_phase_name(arm.phase)},
+                                             {"gripper_closed", arm.gripper_closed},
+                                             {"command_s", seconds(arm.command_ns)},
+                                             {"touch_s", seconds(arm.touch_ns)},
+                                             {"target_m", arm.target_W_m},
+                                             {"gripper_m", arm.gripper_W_m},
+                                             {"distance_to_target_m", arm.distance_to_target_m}};
+    }
+    json["arms"] = {
+        {"commands_applied", arms.commands_applied},
+        {"refusal", arms.refusal().empty() ? Json(nullptr) : Json(std::string(arms.refusal()))},
+        {"arms", sides}};
+  }
   if (evaluation) {
     json["metrics"] = metrics_json(evaluation->metrics);
     json["goals"] = goals_json(evaluation->goals);
@@ -136,7 +159,8 @@ std::optional<double> last_command_time(const config::ExperimentConfig& experime
                                         const MainJobResult& result, config::GazeAction action) {
   std::optional<double> time_s;
   for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
-    if (experiment.commands[i].action == action && result.command_sent_s[i] >= 0.0) {
+    if (!experiment.commands[i].arm && experiment.commands[i].action == action &&
+        result.command_sent_s[i] >= 0.0) {
       time_s = result.command_sent_s[i];
     }
   }
@@ -148,6 +172,7 @@ RunEvaluation evaluate_run(const config::ExperimentConfig& experiment, const Mai
   MetricInputs inputs;
   for (std::size_t i = 0; i < experiment.commands.size() && i < result.command_sent_s.size(); ++i) {
     if (result.command_sent_s[i] < 0.0) continue;  // The run ended before it was due.
+    if (experiment.commands[i].arm) continue;      // The arms': no gaze metric's business.
     inputs.commands.push_back(
         {result.command_sent_s[i], gaze_action(experiment.commands[i].action)});
   }

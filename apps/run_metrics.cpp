@@ -362,6 +362,36 @@ RunMetrics compute_metrics(const Trace& trace, const MetricInputs& inputs) {
       out.absent("all_objects_visited_s", "never visited: " + missed);
     }
   }
+  // The reach.
+  const ReachRecord& reach = trace.reach;
+  const char* reach_metrics[] = {"time_to_touch_s", "touch_position_error_m",
+                                 "estimated_target_error_m"};
+  if (!reach.accepted) {
+    const std::string why = reach.refused ? "the reach was refused: " + reach.refusal
+                                          : std::string("the run made no reach");
+    for (const char* name : reach_metrics) out.absent(name, why);
+  } else {
+    if (std::isfinite(reach.estimated_target_error_m)) {
+      out.set("estimated_target_error_m", reach.estimated_target_error_m);
+    } else {
+      out.absent("estimated_target_error_m",
+                 "the dominant eye's true axis did not meet the target object at the reach");
+    }
+    if (std::isfinite(reach.touch_s)) {
+      out.set("time_to_touch_s", reach.touch_s - reach.command_s);
+      if (std::isfinite(reach.touch_position_error_m)) {
+        out.set("touch_position_error_m", reach.touch_position_error_m);
+      } else {
+        out.absent("touch_position_error_m",
+                   "no target object (evaluation.target_object) to measure the touch against");
+      }
+    } else {
+      const std::string why = std::string("the gripper never touched (the reach ended ") +
+                              reach_phase_name(reach.final_phase) + ")";
+      out.absent("time_to_touch_s", why);
+      out.absent("touch_position_error_m", why);
+    }
+  }
   return out.build();
 }
 

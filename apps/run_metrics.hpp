@@ -46,6 +46,17 @@
 //                          at least visit_dwell_s (object_visit_times).
 //  all_objects_visited_s   When the last of them was first visited (the row completing its
 //                          dwell); absent unless every one was.
+//  time_to_touch_s         The newest accepted reach (Trace::reach): from its command to the
+//                          arm's touch sensor stopping it (ArmStatus::touch_ns).
+//  touch_position_error_m  At that touch: |the gap| between the gripper's true contact geometry
+//                          (the fingers and palm its touch sensor covers) and the target
+//                          object's surface (evaluation.target_object): a touch of something
+//                          else, or a late one, shows here.
+//  estimated_target_error_m
+//                          At the reach command: the distance from the target the arm took (for
+//                          reach: fixation, the head's stereo estimate: where its believed
+//                          optical axes meet) to the point where the dominant eye's true optical
+//                          axis meets the target object's surface.
 // A metric that does not apply to a run (no saccade command, no disparity, no target...) is
 // absent, with the reason in RunMetrics::absent.
 

@@ -283,6 +283,34 @@ Figure saccade_figure(const Trace& trace, const PlotInputs& inputs) {
   return figure;
 }
 
+Figure reach_figure(const Trace& trace, const PlotInputs& inputs) {
+  Figure figure;
+  figure.file = "plot_reach.png";
+  figure.title = inputs.title + ": the reaching arm's fingertips";
+  Series believed{"believed, to target", kBlue, 1, {}};
+  Series surface{"true, to surface", kBlack, 1, {}};
+  Series speed{"true speed", kRed, 1, {}};
+  for (std::size_t r = 0; r < trace.rows.size(); ++r) {
+    const TraceRow& row = trace.rows[r];
+    if (row.reach_arm < 0) continue;
+    figure.x.push_back(row.time_s);
+    believed.y.push_back(row.gripper_distance_m);
+    surface.y.push_back(row.true_gripper_surface_m);
+    double v = NAN;
+    if (r > 0 && trace.rows[r - 1].reach_arm == row.reach_arm &&
+        row.time_s > trace.rows[r - 1].time_s) {
+      const auto& a = trace.rows[r - 1].true_gripper_W_m;
+      const auto& b = row.true_gripper_W_m;
+      v = std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]) /
+          (row.time_s - trace.rows[r - 1].time_s);
+    }
+    speed.y.push_back(v);
+  }
+  figure.panels.push_back({"distance (m)", {believed, surface}});
+  figure.panels.push_back({"speed (m/s)", {speed}});
+  return figure;
+}
+
 }  // namespace
 
 std::vector<std::string> stage_plots(OutputDirectory& out, const Trace& trace,
@@ -296,6 +324,10 @@ std::vector<std::string> stage_plots(OutputDirectory& out, const Trace& trace,
         std::isfinite(inputs.saccade_end_s) && inputs.saccade_end_s > inputs.saccade_start_s) {
       Figure saccade = saccade_figure(trace, inputs);
       if (saccade.x.size() >= 2) figures.push_back(std::move(saccade));
+    }
+    if (trace.reach.accepted) {
+      Figure reach = reach_figure(trace, inputs);
+      if (reach.x.size() >= 2) figures.push_back(std::move(reach));
     }
   }
   std::vector<std::string> staged;

@@ -27,7 +27,10 @@ struct PlotInputs {
 ///  - plot_gaze.png: measured disparity (px) and the eyes' true gaze errors (deg) over time;
 ///  - plot_joints.png: the joints' command, believed and true angles (deg) over time;
 ///  - plot_saccade.png (with a saccade window and the dominant pan joint): the dominant eye's
-///    true pan (deg) and its speed (deg/s) around the saccade.
+///    true pan (deg) and its speed (deg/s) around the saccade;
+///  - plot_reach.png (when the run made a reach): the reaching arm's fingertips, their believed
+///    distance to the target and their true distance to the target object's surface (m), and
+///    their true speed (m/s), from the reach command on.
 /// Returns the names staged. A plot that cannot be drawn or written throws OutputError naming
 /// it (PLplot's message included); nothing is left behind. PLplot keeps global state: call from
 /// one thread at a time, after the run. Not real-time safe.

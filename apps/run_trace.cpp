@@ -99,6 +99,22 @@ const char* gaze_action_name(control::GazeAction action) {
   return "unknown";
 }
 
+const char* reach_phase_name(control::ReachPhase phase) {
+  switch (phase) {
+    case control::ReachPhase::kIdle:
+      return "idle";
+    case control::ReachPhase::kReaching:
+      return "reaching";
+    case control::ReachPhase::kTouching:
+      return "touching";
+    case control::ReachPhase::kArrived:
+      return "arrived";
+    case control::ReachPhase::kRefused:
+      return "refused";
+  }
+  return "unknown";
+}
+
 void Trace::add_row(const TraceRow& row, std::span<const TraceJointSample> joint_samples) {
   if (joint_samples.size() != joint_count()) {
     throw std::invalid_argument("trace: a row needs " + std::to_string(joint_count()) +
@@ -147,6 +163,11 @@ void TraceRecorder::configure() {
   for (const auto& joint : sources_.joint_names) truth.joint_position_rad(joint);
   if (!sources_.target_object.empty()) truth.X_WO(sources_.target_object);
   for (const std::string& object : sources_.visit_objects) truth.X_WO(object);
+  for (const auto& chain : sources_.arm_chains) {
+    if (!chain) continue;
+    truth.X_WL(chain->names[3]);
+    truth.joint_position_rad(chain->names[4]);
+  }
   trace_.rows.reserve(capacity_rows_);
   trace_.joints.reserve(capacity_rows_ * trace_.joint_count());
   scratch_.resize(trace_.joint_count());
@@ -302,8 +323,68 @@ hal::Status TraceRecorder::record(const hal::LoopTick& tick) {
   if (row.believed_fixation_valid && row.true_fixation_valid) {
     row.fixation_error_m = (to_vector(row.believed_fixation_W_m) - fixation_W).norm();
   }
+  if (sources_.arms != nullptr) {
+    sources_.arms->read(arm_status_);
+    if (sources_.arms->version() > 0) record_arms(row, hit);
+  }
   trace_.add_row(row, scratch_);
   return hal::Status::kOk;
+}
+
+void TraceRecorder::record_arms(TraceRow& row, const sim::RayHit& dominant_hit) {
+  sim::GroundTruth& truth = *sources_.truth;
+  ReachRecord& reach = trace_.reach;
+  int side = -1;
+  std::int64_t newest_ns = 0;
+  for (int s = 0; s < 2; ++s) {
+    const control::ArmStatus::Arm& arm = arm_status_.arms[static_cast<std::size_t>(s)];
+    if (arm.phase == control::ReachPhase::kRefused && !arm_status_.refusal().empty()) {
+      reach.refused = true;
+      reach.refusal = std::string(arm_status_.refusal());
+    }
+    if (sources_.arm_chains[static_cast<std::size_t>(s)] && arm.command_ns > newest_ns) {
+      side = s;
+      newest_ns = arm.command_ns;
+    }
+  }
+  if (side < 0) return;
+  const control::ArmStatus::Arm& arm = arm_status_.arms[static_cast<std::size_t>(side)];
+  const control::ArmChain& chain = *sources_.arm_chains[static_cast<std::size_t>(side)];
+  row.reach_arm = side;
+  row.reach_phase = arm.phase;
+  row.gripper_W_m = arm.gripper_W_m;
+  row.gripper_distance_m = arm.distance_to_target_m;
+  const double opening_rad = truth.joint_position_rad(chain.names[4]);
+  const Eigen::Vector3d tip_W = truth.X_WL(chain.names[3]) *
+                                Eigen::Vector3d(chain.hand_m(sources_.fingers, opening_rad), 0, 0);
+  row.true_gripper_W_m = to_array(tip_W);
+  const bool named = !sources_.target_object.empty();
+  if (named) row.true_gripper_surface_m = truth.distance_to_object_m(sources_.target_object, tip_W);
+  if (arm.command_ns != last_reach_command_ns_) {
+    // A new reach: the stereo estimate it took against where the dominant eye truly looked.
+    last_reach_command_ns_ = arm.command_ns;
+    const bool refused = reach.refused;
+    const std::string refusal = reach.refusal;
+    reach = ReachRecord{};
+    reach.refused = refused;
+    reach.refusal = refusal;
+    reach.accepted = true;
+    reach.arm = side;
+    reach.command_s = static_cast<double>(arm.command_ns - start_ns_) * 1e-9;
+    reach.estimate_W_m = arm.target_W_m;
+    if (dominant_hit.hit && (!named || dominant_hit.object == sources_.target_object)) {
+      reach.true_target_W_m = to_array(dominant_hit.p_W);
+      reach.estimated_target_error_m = (to_vector(arm.target_W_m) - dominant_hit.p_W).norm();
+    }
+  }
+  if (arm.touch_ns != 0 && std::isnan(reach.touch_s)) {
+    reach.touch_s = static_cast<double>(arm.touch_ns - start_ns_) * 1e-9;
+    if (named) {
+      reach.touch_position_error_m =
+          std::abs(truth.end_effector_gap_m(chain.names[4], sources_.target_object));
+    }
+  }
+  reach.final_phase = arm.phase;
 }
 
 std::string trace_csv(const Trace& trace) {
@@ -316,7 +397,9 @@ std::string trace_csv(const Trace& trace) {
       "target_x_m,target_y_m,target_z_m,dominant_gaze_error_deg,verging_gaze_error_deg,"
       "true_gaze_error_deg,target_occluded,believed_fixation_x_m,believed_fixation_y_m,"
       "believed_fixation_z_m,true_fixation_x_m,true_fixation_y_m,true_fixation_z_m,"
-      "fixation_error_m,axis_object\n";
+      "fixation_error_m,axis_object,reach_arm,reach_phase,gripper_x_m,gripper_y_m,gripper_z_m,"
+      "gripper_distance_m,true_gripper_x_m,true_gripper_y_m,true_gripper_z_m,"
+      "true_gripper_surface_m\n";
   for (std::size_t r = 0; r < trace.rows.size(); ++r) {
     const TraceRow& row = trace.rows[r];
     append_number(out, row.time_s);
@@ -345,6 +428,17 @@ std::string trace_csv(const Trace& trace) {
     append_field(out, row.fixation_error_m);
     out += ',';
     if (row.axis_object >= 0) out += trace.visit_objects[static_cast<std::size_t>(row.axis_object)];
+    out += ',';
+    if (row.reach_arm >= 0) {
+      out += row.reach_arm == 0 ? "left," : "right,";
+      out += reach_phase_name(row.reach_phase);
+    } else {
+      out += ',';
+    }
+    for (const double v : row.gripper_W_m) append_field(out, v);
+    append_field(out, row.gripper_distance_m);
+    for (const double v : row.true_gripper_W_m) append_field(out, v);
+    append_field(out, row.true_gripper_surface_m);
     out += '\n';
   }
   return out;

@@ -8,10 +8,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "cambio/control/arm_chain.hpp"
+#include "cambio/control/arm_command.hpp"
 #include "cambio/control/gaze_command.hpp"
 #include "cambio/control/joint_frames.hpp"
 #include "cambio/hal/image.hpp"
@@ -69,6 +72,38 @@ struct TraceRow {
   /// Which of Trace::visit_objects the dominant eye's true optical axis meets first (its index),
   /// -1 for none of them.
   int axis_object = -1;
+  /// The arm of the newest accepted reach (0 left, 1 right; -1: none yet) and what it does.
+  int reach_arm = -1;
+  control::ReachPhase reach_phase = control::ReachPhase::kIdle;
+  /// Its fingertips' midpoint from the believed joints (ArmStatus) and its distance to the reach
+  /// target (the stereo estimate).
+  std::array<double, 3> gripper_W_m{kNoValue, kNoValue, kNoValue};
+  double gripper_distance_m = kNoValue;
+  /// The same point from the true joints, and its signed distance to the target object's
+  /// surface (GroundTruth::distance_to_object_m; NaN without a named target object).
+  std::array<double, 3> true_gripper_W_m{kNoValue, kNoValue, kNoValue};
+  double true_gripper_surface_m = kNoValue;
+};
+
+/// The newest reach as the trace saw it (the arms' ArmStatus against the ground truth).
+struct ReachRecord {
+  bool accepted = false;        ///< A reach was accepted (ArmStatus::command_ns set).
+  int arm = -1;                 ///< 0 left, 1 right.
+  double command_s = kNoValue;  ///< When it was accepted, since the start.
+  double touch_s = kNoValue;    ///< When the touch sensor stopped it.
+  /// The target the arm reached for: the head's stereo estimate for a fixation target.
+  std::array<double, 3> estimate_W_m{kNoValue, kNoValue, kNoValue};
+  /// Where the dominant eye's true optical axis met the target object at the command (ground
+  /// truth); NaN when it met something else or nothing.
+  std::array<double, 3> true_target_W_m{kNoValue, kNoValue, kNoValue};
+  double estimated_target_error_m = kNoValue;  ///< |estimate - true_target|.
+  /// At the touch: |the gap| between the gripper's true contact geometry (what its touch sensor
+  /// covers) and the target object's surface (GroundTruth::end_effector_gap_m).
+  double touch_position_error_m = kNoValue;
+  control::ReachPhase final_phase = control::ReachPhase::kIdle;
+  /// A reach was refused (the arms' message), the last one.
+  bool refused = false;
+  std::string refusal;
 };
 
 /// Both eyes rendered at one time by the ground truth (rig cameras at their intrinsics).
@@ -88,6 +123,7 @@ struct Trace {
   std::vector<TraceRow> rows;
   std::vector<TraceJointSample> joints;
   std::vector<KeyFrame> key_frames;
+  ReachRecord reach;
   /// The preallocated rows ran out (kMaxTraceRows): samples after the last row were dropped.
   bool truncated = false;
   /// What went wrong while recording without stopping it (a key frame that could not render).
@@ -135,6 +171,11 @@ struct TraceSources {
   std::vector<double> key_frame_times_s;
   /// Scene objects whose visits by the dominant eye's axis are recorded (may be empty).
   std::vector<std::string> visit_objects;
+  /// The arms' status (null: no arm loop), their chains ([0] left, [1] right) and fingers, to
+  /// place the true fingertips.
+  const hal::SeqlockChannel<control::ArmStatus>* arms = nullptr;
+  std::array<std::optional<control::ArmChain>, 2> arm_chains;
+  control::FingerGeometry fingers;
 };
 
 /// Records a Trace at the control rate. Evaluation, not control: update() reads the ground
@@ -161,6 +202,7 @@ class TraceRecorder final : public hal::Loop {
 
  private:
   hal::Status record(const hal::LoopTick& tick);
+  void record_arms(TraceRow& row, const sim::RayHit& dominant_hit);
   void render_key_frames(double time_s);
 
   std::string name_ = "trace";
@@ -179,7 +221,12 @@ class TraceRecorder final : public hal::Loop {
   Eigen::Vector3d pursuit_anchor_O_ = Eigen::Vector3d::Zero();
   control::GazeStatus status_{};
   perception::SsmSummary summary_{};
+  control::ArmStatus arm_status_{};
+  std::int64_t last_reach_command_ns_ = 0;
 };
+
+/// The reach phase's name as trace.csv and summary.json write it.
+const char* reach_phase_name(control::ReachPhase phase);
 
 /// trace.csv: a header row whose names carry their units (time_s, <joint>_command_rad, ...,
 /// disparity_px, ...), one row per sample; NaN is written as "nan", booleans as 0/1, the gaze

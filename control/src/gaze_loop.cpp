@@ -92,6 +92,25 @@ GazeLoop::GazeLoop(const hal::HardwareInfo& hardware, const GazeLoopParams& para
 
 GazeLoop::~GazeLoop() = default;
 
+void GazeLoop::set_overlay(const hal::SeqlockChannel<JointTargetFrame>* overlay,
+                           std::vector<int> rig_indices) {
+  const std::array<int, 5> head{head_.neck_pan, head_.neck_tilt, head_.eye_tilt, head_.eye_pan[0],
+                                head_.eye_pan[1]};
+  for (const int i : rig_indices) {
+    if (i < 0 || i >= pose_.count) {
+      throw std::invalid_argument("gaze loop: overlay joint " + std::to_string(i) +
+                                  " is outside the rig's " + std::to_string(pose_.count) +
+                                  " joints");
+    }
+    if (std::find(head.begin(), head.end(), rig_to_tree_[at(i)]) != head.end()) {
+      throw std::invalid_argument("gaze loop: overlay joint " + std::to_string(i) +
+                                  " is a head joint, which the gaze loop commands");
+    }
+  }
+  overlay_ = overlay;
+  overlay_rig_indices_ = std::move(rig_indices);
+}
+
 void GazeLoop::activate() {
   request_features();
   for (auto& sample : camera_poses_) sample = CameraPoseSample{};
@@ -170,6 +189,13 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
 
   for (int i = 0; i < pose_.count; ++i) {
     pose_.commands[at(i)].value = q_command_tree_[at(rig_to_tree_[at(i)])];
+  }
+  if (overlay_ != nullptr) {
+    (void)overlay_->read(overlay_frame_);  // A torn read keeps the last clean frame.
+    if (overlay_frame_.count == pose_.count) {
+      for (const int i : overlay_rig_indices_)
+        pose_.commands[at(i)] = overlay_frame_.commands[at(i)];
+    }
   }
   pose_.stamp_ns = now_ns;
   targets_.write(pose_);

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -102,6 +103,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   std::vector<PendingPixelTarget> pixel_targets;
   if (config.task == ControlTask::kGaze) {
     if (auto gaze = experiment.optional_map("gaze")) config.gaze = read_gaze_task(std::move(*gaze));
+    if (auto arm = experiment.optional_map("arm")) config.arm = read_arm_task(std::move(*arm));
     if (auto behaviour = experiment.optional_map("behaviour")) {
       config.behaviour = read_behaviour(std::move(*behaviour), resolve);
       // The gaze command channel has one writer: the behaviour or the script.
@@ -114,7 +116,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
       config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
     }
   } else {
-    for (const std::string_view key : {"gaze", "commands", "behaviour"}) {
+    for (const std::string_view key : {"gaze", "arm", "commands", "behaviour"}) {
       if (experiment.has(key)) {
         experiment.error(key, "only task gaze reads " + std::string(key) + " (task is hold)");
       }
@@ -157,6 +159,16 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   if (config.task != ControlTask::kHold && !config.rig.stereo) {
     experiment.error("task", "expected a rig with a stereo pair for the " + task +
                                  " task, found none in " + config.rig_path);
+  }
+  const bool scripts_arms =
+      std::any_of(config.commands.begin(), config.commands.end(),
+                  [](const GazeCommandConfig& c) { return c.arm.has_value(); });
+  if (scripts_arms && config.rig.touch_sensors.empty()) {
+    experiment.error("commands",
+                     "expected a rig with arms for reach, grasp or release (an arm "
+                     "group with a touch sensor on its gripper), found no touch "
+                     "sensor in " +
+                         config.rig_path);
   }
   if (config.rig.stereo && !pixel_targets.empty()) {
     const StereoConfig& stereo = *config.rig.stereo;

@@ -36,6 +36,13 @@ const SceneObjectConfig* find_scene_object(MapReader& map, std::string_view key,
 /// `gaze:` (all keys optional).
 GazeTaskConfig read_gaze_task(MapReader gaze);
 
+/// `arm:` (all keys optional).
+ArmTaskConfig read_arm_task(MapReader arm);
+
+/// The arm action of a `commands:` entry holding `reach`, `grasp` or `release` (which one is
+/// `key`), with its `arm` for a reach.
+ArmCommandConfig read_arm_command(MapReader& entry, std::string_view key);
+
 /// A pixel target, kept to be checked against the dominant camera once the rig is loaded.
 struct PendingPixelTarget {
   MapReader target;  ///< The action's map, holding `pixel`.

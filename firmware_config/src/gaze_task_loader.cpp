@@ -224,10 +224,31 @@ std::vector<GazeCommandConfig> read_gaze_commands(MapReader& experiment, double 
       action_key = key;
       command.action = kind;
     }
-    if (!action) {
-      entry.error(
-          "", std::string(kMissingKey) + " (expected one action: fixate, saccade, pursue or hold)");
-    } else {
+    // An arm action instead (the arms' loop takes it): one action per entry all the same.
+    for (const std::string_view key : {"reach", "grasp", "release"}) {
+      if (!entry.has(key)) {
+        (void)entry.text_or(key, {});  // Looked up, so that a misspelt one is offered it.
+        continue;
+      }
+      if (action || command.arm) {
+        entry.error(key, "expected one action per command, found " + std::string(action_key) +
+                             " and " + std::string(key));
+        continue;
+      }
+      command.arm = read_arm_command(entry, key);
+      action_key = key;
+    }
+    if (entry.has("arm") && !(command.arm && command.arm->action == ArmActionConfig::kReach)) {
+      entry.error("arm",
+                  "expected arm only beside reach (grasp and release name their arm as "
+                  "their value)");
+    }
+    (void)entry.text_or("arm", {});  // Read (reported above if misplaced), or offered if misspelt.
+    if (!action && !command.arm) {
+      entry.error("", std::string(kMissingKey) +
+                          " (expected one action: fixate, saccade, pursue, hold, reach, grasp or "
+                          "release)");
+    } else if (action) {
       const bool needs_target =
           command.action == GazeAction::kFixate || command.action == GazeAction::kSaccade;
       command.target = read_target(*action, action_key, needs_target, scene, pixels);

@@ -1,6 +1,8 @@
 #include "cambio/sim/ground_truth.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
@@ -90,6 +92,132 @@ Eigen::Isometry3d GroundTruth::X_WL(const std::string& link_name) {
       link_name == "base" ? 0 : mj_name2id(world_.model(), mjOBJ_BODY, link_name.c_str());
   if (body < 0) throw std::out_of_range("no link named '" + link_name + "' in the sim world");
   return pose_from(data_->xpos + 3 * body, data_->xmat + 9 * body);
+}
+
+namespace {
+
+/// Signed distance from `p_W` to the nearest geom of `body` (see distance_to_object_m);
+/// `colliding_only` skips geoms that collide with nothing (a joint's collar).
+double body_distance_m(const mjModel* model, const mjData* data, int body,
+                       const Eigen::Vector3d& p_W, const std::string& object_name,
+                       bool colliding_only = false) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < model->ngeom; ++i) {
+    if (model->geom_bodyid[i] != body) continue;
+    if (colliding_only && model->geom_contype[i] == 0 && model->geom_conaffinity[i] == 0) continue;
+    const Eigen::Isometry3d X_WG = pose_from(data->geom_xpos + 3 * i, data->geom_xmat + 9 * i);
+    const Eigen::Vector3d p = X_WG.inverse() * p_W;
+    const mjtNum* size = model->geom_size + 3 * i;
+    double d = 0.0;
+    switch (model->geom_type[i]) {
+      case mjGEOM_SPHERE:
+        d = p.norm() - size[0];
+        break;
+      case mjGEOM_ELLIPSOID:
+        d = p.norm() - std::max({size[0], size[1], size[2]});
+        break;
+      case mjGEOM_BOX: {
+        // The exact signed distance to a box of half-sizes `size`.
+        const Eigen::Vector3d q = p.cwiseAbs() - Eigen::Vector3d(size[0], size[1], size[2]);
+        d = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+        break;
+      }
+      case mjGEOM_CYLINDER: {
+        const Eigen::Vector2d q(std::hypot(p.x(), p.y()) - size[0], std::abs(p.z()) - size[1]);
+        d = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+        break;
+      }
+      case mjGEOM_CAPSULE: {
+        const double z = std::clamp(p.z(), -size[1], size[1]);
+        d = (p - Eigen::Vector3d(0.0, 0.0, z)).norm() - size[0];
+        break;
+      }
+      default:
+        throw std::invalid_argument("object '" + object_name +
+                                    "' has a geom whose distance is not computed here");
+    }
+    nearest = std::min(nearest, d);
+  }
+  return nearest;
+}
+
+}  // namespace
+
+int GroundTruth::object_body(const std::string& object_name) const {
+  for (const auto& object : world_.objects()) {
+    if (object.name == object_name) return object.body_id;
+  }
+  throw std::out_of_range("no object named '" + object_name + "' in the scene");
+}
+
+double GroundTruth::distance_to_object_m(const std::string& object_name,
+                                         const Eigen::Vector3d& p_W) {
+  const int body = object_body(object_name);
+  refresh();
+  std::lock_guard<std::mutex> lock(mutex_);
+  return body_distance_m(world_.model(), data_, body, p_W, object_name);
+}
+
+double GroundTruth::end_effector_gap_m(const std::string& link_name,
+                                       const std::string& object_name) {
+  const int object = object_body(object_name);
+  const std::vector<int> hand = world_.end_effector_bodies(link_name);
+  refresh();
+  std::lock_guard<std::mutex> lock(mutex_);
+  const mjModel* model = world_.model();
+  // Between two convex shapes the nearest points are a vertex or an edge of one and a face or an
+  // edge of the other: points along each side's edges (and axes) are measured against the other
+  // side, to within the spacing of the points where two edges cross.
+  const auto colliding = [&](int geom) {
+    return model->geom_contype[geom] != 0 || model->geom_conaffinity[geom] != 0;
+  };
+  const auto vertices = [&](const std::vector<int>& bodies, const auto& measure) {
+    for (int i = 0; i < model->ngeom; ++i) {
+      if (std::find(bodies.begin(), bodies.end(), model->geom_bodyid[i]) == bodies.end() ||
+          !colliding(i)) {
+        continue;
+      }
+      const Eigen::Isometry3d X_WG = pose_from(data_->geom_xpos + 3 * i, data_->geom_xmat + 9 * i);
+      const mjtNum* size = model->geom_size + 3 * i;
+      switch (model->geom_type[i]) {
+        case mjGEOM_BOX:
+          // Points along the twelve edges (corners included): an edge meeting an edge is as
+          // common as a corner meeting a face when a tilted finger meets a box.
+          for (int axis = 0; axis < 3; ++axis) {
+            for (int edge = 0; edge < 4; ++edge) {
+              for (int k = 0; k <= 8; ++k) {
+                Eigen::Vector3d p;
+                p[axis] = size[axis] * (k / 4.0 - 1.0);
+                p[(axis + 1) % 3] = (edge & 1 ? 1 : -1) * size[(axis + 1) % 3];
+                p[(axis + 2) % 3] = (edge & 2 ? 1 : -1) * size[(axis + 2) % 3];
+                measure(X_WG * p, 0.0);
+              }
+            }
+          }
+          break;
+        case mjGEOM_CAPSULE:
+        case mjGEOM_CYLINDER:
+          for (int k = 0; k <= 8; ++k) {
+            measure(X_WG * Eigen::Vector3d(0.0, 0.0, size[1] * (k / 4.0 - 1.0)), size[0]);
+          }
+          break;
+        default:
+          measure(X_WG.translation(), size[0]);
+          break;
+      }
+    }
+  };
+  double gap = std::numeric_limits<double>::infinity();
+  vertices(hand, [&](const Eigen::Vector3d& p_W, double less_m) {
+    gap = std::min(gap, body_distance_m(model, data_, object, p_W, object_name) - less_m);
+  });
+  const std::vector<int> object_bodies{object};
+  vertices(object_bodies, [&](const Eigen::Vector3d& p_W, double less_m) {
+    for (const int body : hand) {
+      gap = std::min(gap, body_distance_m(model, data_, body, p_W, link_name, true) - less_m);
+    }
+  });
+  return gap;
 }
 
 RayHit GroundTruth::cast_ray(const Eigen::Vector3d& p_W, const Eigen::Vector3d& direction_W,

@@ -417,8 +417,9 @@ class Builder {
   void write_finger(std::ostringstream& xml, double side, const std::string& indent) {
     xml << indent << "<geom type=\"box\" pos=\"0.04 " << num(side * 0.014)
         << " 0\" size=\"0.04 0.005 0.014\" material=\"robot_joint\"/>\n";
-    xml << indent << "<geom type=\"box\" pos=\"0.078 " << num(side * 0.008)
-        << " 0\" size=\"0.004 0.007 0.014\" material=\"robot_joint\"/>\n";
+    xml << indent << "<geom type=\"box\" pos=\"" << num(kFingerTipX_m - kFingerPadHalf_m) << " "
+        << num(side * kFingerTipY_m) << " 0\" size=\"" << num(kFingerPadHalf_m)
+        << " 0.007 0.014\" material=\"robot_joint\"/>\n";
   }
 
   void write_link_geometry(std::ostringstream& xml, const JointConfig& joint,

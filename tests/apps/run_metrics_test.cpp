@@ -369,5 +369,48 @@ TEST(TraceCsvTest, HeaderNamesUnitsAndEveryRowHasItsColumns) {
   EXPECT_THROW(trace.add_row(TraceRow{}, std::vector<TraceJointSample>(1)), std::invalid_argument);
 }
 
+TEST(RunMetricsTest, TheReachIsScoredFromTheTracesReachRecord) {
+  Trace trace = make_trace(0.1, [&](double, TraceRow&, auto&) {});
+  trace.reach.accepted = true;
+  trace.reach.command_s = 1.0;
+  trace.reach.touch_s = 2.25;
+  trace.reach.touch_position_error_m = 0.002;
+  trace.reach.estimated_target_error_m = 0.004;
+  trace.reach.final_phase = control::ReachPhase::kTouching;
+  RunMetrics metrics = compute_metrics(trace, {});
+  EXPECT_DOUBLE_EQ(*metrics.find("time_to_touch_s"), 1.25);
+  EXPECT_DOUBLE_EQ(*metrics.find("touch_position_error_m"), 0.002);
+  EXPECT_DOUBLE_EQ(*metrics.find("estimated_target_error_m"), 0.004);
+
+  // Arrived without a touch: the estimate is scored, the touch is absent and says how it ended.
+  trace.reach.touch_s = kNoValue;
+  trace.reach.final_phase = control::ReachPhase::kArrived;
+  metrics = compute_metrics(trace, {});
+  EXPECT_FALSE(metrics.find("time_to_touch_s"));
+  EXPECT_EQ(metrics.absent_reason("time_to_touch_s"),
+            "the gripper never touched (the reach ended arrived)");
+  EXPECT_TRUE(metrics.find("estimated_target_error_m"));
+
+  // Refused: every reach metric is absent with the arms' reason, and a goal on it fails.
+  trace.reach = ReachRecord{};
+  trace.reach.refused = true;
+  trace.reach.refusal = "out of reach: the target is 0.972 m from right_arm's shoulder";
+  metrics = compute_metrics(trace, {});
+  for (const char* name :
+       {"time_to_touch_s", "touch_position_error_m", "estimated_target_error_m"}) {
+    EXPECT_EQ(metrics.absent_reason(name),
+              "the reach was refused: out of reach: the target is 0.972 m from right_arm's "
+              "shoulder")
+        << name;
+  }
+  const std::vector<Goal> goals{{"time_to_touch_s", GoalBound::kMax, 3.0}};
+  const auto results = evaluate_goals(metrics, goals);
+  EXPECT_FALSE(results[0].passed);
+  EXPECT_EQ(metrics.absent_reason("time_to_touch_s").empty(), false);
+  EXPECT_EQ(compute_metrics(make_trace(0.1, [&](double, TraceRow&, auto&) {}), {})
+                .absent_reason("time_to_touch_s"),
+            "the run made no reach");
+}
+
 }  // namespace
 }  // namespace cambio::app

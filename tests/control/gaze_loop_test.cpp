@@ -167,6 +167,7 @@ class GazeHarness {
     return r;
   }
   const GazeLoop& loop() const { return *loop_; }
+  GazeLoop& loop() { return *loop_; }
   const hal::HardwareInfo& hardware() const { return hardware_; }
 
  private:
@@ -431,6 +432,30 @@ TEST(GazeLoop, PredictiveVergenceArrivesVerged) {
   // No disparity was reported since the command: the vergence came from the target's depth.
   EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, far_right), 0.05);
   EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, far_right), 0.05);
+}
+
+TEST(GazeLoop, OverlaidJointsFollowTheOverlayOnceItPublishes) {
+  GazeHarness h;
+  h.build();
+  hal::SeqlockChannel<JointTargetFrame> overlay;
+  // Rig order: head (0-4), left arm (5-9), right arm (10-14); the right elbow is 12.
+  h.loop().set_overlay(&overlay, {10, 11, 12, 13, 14});
+  const double elbow_before = h.q_deg("right_elbow");
+  h.step();
+  EXPECT_DOUBLE_EQ(h.q_deg("right_elbow"), elbow_before) << "its own until a frame arrives";
+  JointTargetFrame frame;
+  frame.count = 15;
+  for (int i = 0; i < frame.count; ++i) {
+    frame.commands[static_cast<std::size_t>(i)] = {hal::CommandMode::kPosition, 0.5};
+  }
+  overlay.write(frame);
+  const double neck_before = h.q_deg("neck_pan");
+  h.step();
+  EXPECT_DOUBLE_EQ(h.q_deg("right_elbow"), 0.5 / kDeg);
+  EXPECT_DOUBLE_EQ(h.q_deg("left_elbow"), 0.0) << "not overlaid";
+  EXPECT_DOUBLE_EQ(h.q_deg("neck_pan"), neck_before) << "the head stays the gaze loop's";
+  EXPECT_THROW(h.loop().set_overlay(&overlay, {0}), std::invalid_argument);
+  EXPECT_THROW(h.loop().set_overlay(&overlay, {15}), std::invalid_argument);
 }
 
 }  // namespace

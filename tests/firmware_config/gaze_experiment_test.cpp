@@ -3,6 +3,7 @@
 // once, `scene.` overrides).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -298,7 +299,7 @@ TEST_F(GazeExperiment, AnUnknownActionIsOfferedTheActions) {
   ASSERT_EQ(found.size(), 2u) << joined(found);
   EXPECT_EQ(found[0],
             "/tmp/gaze.yaml:8:7: experiment.commands[0]: missing key (expected one action: "
-            "fixate, saccade, pursue or hold)");
+            "fixate, saccade, pursue, hold, reach, grasp or release)");
   EXPECT_EQ(found[1],
             "/tmp/gaze.yaml:8:17: experiment.commands[0].fixat: unknown key \"fixat\"; did you "
             "mean \"fixate\"?");
@@ -447,7 +448,8 @@ TEST_F(GazeExperiment, AnUnknownGoalMetricGetsASuggestion) {
             "pursuit_rms_error_deg, max_believed_vs_true_joint_error_rad, "
             "final_believed_vs_true_fixation_error_m, max_believed_vs_true_fixation_error_m, "
             "final_max_abs_eye_pan_deg, max_verging_gaze_error_visible_deg, target_occluded_s, "
-            "objects_visited, all_objects_visited_s");
+            "objects_visited, all_objects_visited_s, time_to_touch_s, touch_position_error_m, "
+            "estimated_target_error_m");
 }
 
 TEST_F(GazeExperiment, AGoalIsAMaximumOrAMinimum) {
@@ -578,6 +580,86 @@ TEST_F(GazeExperiment, ASceneOverrideNeedsAScene) {
   EXPECT_EQ(found[0],
             "--set: scene.objects.0.xyz_m: the experiment names no scene (experiment.scene) to "
             "set it in");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The arms: `arm:` and the arm entries of `commands:`
+
+TEST_F(GazeExperiment, ArmCommandsAndSettingsAreParsed) {
+  const ExperimentConfig config = load(
+      "  arm: {gain: 5, max_speed_m_s: 0.5, max_acceleration_m_s2: 4, probe_depth_m: 0.02,\n"
+      "        approach_m: 0.1, arrive_tolerance_m: 0.003, posture_gain: 1,\n"
+      "        gripper_speed_rad_s: 2}\n"
+      "  commands:\n"
+      "    - {at_s: 0, saccade: {object: cube}}\n"
+      "    - {at_s: 1, reach: fixation}\n"
+      "    - {at_s: 2, reach: [0.5, -0.1, 1.0], arm: right}\n"
+      "    - {at_s: 3, grasp: left}\n"
+      "    - {at_s: 3.5, release: both}\n");
+  EXPECT_DOUBLE_EQ(config.arm.gain_per_s, 5.0);
+  EXPECT_DOUBLE_EQ(config.arm.max_speed_m_s, 0.5);
+  EXPECT_DOUBLE_EQ(config.arm.max_acceleration_m_s2, 4.0);
+  EXPECT_DOUBLE_EQ(config.arm.probe_depth_m, 0.02);
+  EXPECT_DOUBLE_EQ(config.arm.approach_m, 0.1);
+  EXPECT_DOUBLE_EQ(config.arm.arrive_tolerance_m, 0.003);
+  EXPECT_DOUBLE_EQ(config.arm.posture_gain_per_s, 1.0);
+  EXPECT_DOUBLE_EQ(config.arm.gripper_speed_rad_s, 2.0);
+  ASSERT_EQ(config.commands.size(), 5u);
+  EXPECT_FALSE(config.commands[0].arm);
+  ASSERT_TRUE(config.commands[1].arm);
+  EXPECT_EQ(config.commands[1].arm->action, ArmActionConfig::kReach);
+  EXPECT_TRUE(config.commands[1].arm->to_fixation);
+  EXPECT_EQ(config.commands[1].arm->arm, ArmSideConfig::kNearest);
+  ASSERT_TRUE(config.commands[2].arm);
+  EXPECT_FALSE(config.commands[2].arm->to_fixation);
+  EXPECT_EQ(config.commands[2].arm->arm, ArmSideConfig::kRight);
+  EXPECT_EQ(config.commands[2].arm->point_W_m, (std::array<double, 3>{0.5, -0.1, 1.0}));
+  ASSERT_TRUE(config.commands[3].arm);
+  EXPECT_EQ(config.commands[3].arm->action, ArmActionConfig::kGrasp);
+  EXPECT_EQ(config.commands[3].arm->arm, ArmSideConfig::kLeft);
+  ASSERT_TRUE(config.commands[4].arm);
+  EXPECT_EQ(config.commands[4].arm->action, ArmActionConfig::kRelease);
+  EXPECT_EQ(config.commands[4].arm->arm, ArmSideConfig::kNearest);
+  EXPECT_DOUBLE_EQ(config.commands[4].at_s, 3.5);
+}
+
+TEST_F(GazeExperiment, ArmCommandsAreCheckedWhereTheyAre) {
+  const auto found = issues(
+      "  commands:\n"
+      "    - {at_s: 0, reach: fixate}\n"
+      "    - {at_s: 1, reach: [0.5, 1.0]}\n"
+      "    - {at_s: 1, grasp: nearest}\n"
+      "    - {at_s: 2, release: left, arm: left}\n"
+      "    - {at_s: 2, saccade: {object: cube}, reach: fixation}\n"
+      "    - {at_s: 3, reech: fixation}\n"
+      "    - {at_s: 3, reach: fixation, arm: middle}\n");
+  const std::string all = joined(found);
+  for (const char* expected : {
+           "/tmp/gaze.yaml:8:24: experiment.commands[0].reach: expected one of",
+           "/tmp/gaze.yaml:9:24: experiment.commands[1].reach: expected",
+           "/tmp/gaze.yaml:10:24: experiment.commands[2].grasp: expected one of",
+           "/tmp/gaze.yaml:11:37: experiment.commands[3].arm: expected arm only beside reach",
+           "experiment.commands[4].reach: expected one action per command, found saccade and "
+           "reach",
+           "experiment.commands[5].reech: unknown key \"reech\"; did you mean \"reach\"?",
+           "/tmp/gaze.yaml:14:39: experiment.commands[6].arm: expected one of nearest, left, "
+           "right, "
+           "found \"middle\"",
+       }) {
+    EXPECT_NE(all.find(expected), std::string::npos) << expected << "\nin\n" << all;
+  }
+}
+
+TEST_F(GazeExperiment, ArmSettingsAreCheckedWithSuggestions) {
+  const auto found = issues("  arm: {gain: -1, probe_depth: 0.02}\n" + std::string(kHoldCommand));
+  const std::string all = joined(found);
+  for (const char* expected : {
+           "/tmp/gaze.yaml:7:15: experiment.arm.gain: expected a number > 0, found -1",
+           "experiment.arm.probe_depth: unknown key \"probe_depth\"; did you mean "
+           "\"probe_depth_m\"?",
+       }) {
+    EXPECT_NE(all.find(expected), std::string::npos) << expected << "\nin\n" << all;
+  }
 }
 
 }  // namespace

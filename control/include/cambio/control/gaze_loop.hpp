@@ -60,8 +60,8 @@ struct GazeLoopParams {
 ///    extrapolated ahead by the servo's lag;
 ///  - it asks the SSM for what it needs (the SSM's request channel): disparity always (vergence,
 ///    reports), motion only while pursuing.
-/// Joints outside the head hold their initial pose. The loop publishes targets for every rig
-/// joint and a GazeStatus each cycle.
+/// Joints outside the head hold their initial pose, or follow the overlay (set_overlay()). The
+/// loop publishes targets for every rig joint and a GazeStatus each cycle.
 ///
 /// Real-time: everything is allocated at construction except what ViSP allocates inside the
 /// servo's control law, so the loop declares allocates_in_update().
@@ -89,6 +89,13 @@ class GazeLoop final : public hal::Loop {
   void set_extra_features(const hal::SeqlockChannel<perception::FeatureRequest>* extra) {
     extra_features_channel_ = extra;
   }
+
+  /// Joints another loop commands (the arms, ArmReachLoop): at each publish the gaze loop copies
+  /// the commands of `rig_indices` from the newest frame of `overlay` (rig order, every joint)
+  /// into its own, keeping its own until one arrives. Configure time, before the executor runs
+  /// (allocates); throws std::invalid_argument for an index outside the rig or a head joint.
+  void set_overlay(const hal::SeqlockChannel<JointTargetFrame>* overlay,
+                   std::vector<int> rig_indices);
   /// Commands that could not be carried out (a target behind the eye, an unsolvable saccade).
   std::uint64_t rejected_commands() const { return rejected_commands_; }
   std::uint64_t corrections() const { return corrections_; }
@@ -143,6 +150,9 @@ class GazeLoop final : public hal::Loop {
   const hal::SeqlockChannel<GazeCommand>& commands_;
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<GazeStatus> status_channel_;
+  const hal::SeqlockChannel<JointTargetFrame>* overlay_ = nullptr;
+  std::vector<int> overlay_rig_indices_;
+  JointTargetFrame overlay_frame_{};
 
   JointTargetFrame pose_;                // Rig order: what is commanded.
   std::vector<double> q_command_tree_;   // The commanded pose, tree order.

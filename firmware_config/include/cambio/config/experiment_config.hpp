@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/arm_task_config.hpp"
 #include "cambio/config/behaviour_config.hpp"
 #include "cambio/config/experiment_evaluation.hpp"
 #include "cambio/config/gaze_task_config.hpp"
@@ -48,6 +49,8 @@ struct ExperimentConfig {
   /// kGaze only: the gaze loop's settings and its commands (in time order; at least one unless
   /// a behaviour gives them).
   GazeTaskConfig gaze;
+  /// kGaze only: the arms' reach settings (`arm:`), used when the rig has arms.
+  ArmTaskConfig arm;
   std::vector<GazeCommandConfig> commands;
   /// kGaze only: the behaviour that commands the gaze instead of `commands` (the two exclude
   /// each other: the gaze command channel has one writer).

@@ -14,7 +14,7 @@ namespace cambio::config {
 
 /// The metrics a run reports in summary.json (units in the name), and so the names `goals:` may
 /// use. apps/ computes them; a name added there is added here.
-inline constexpr std::array<std::string_view, 15> kExperimentMetricNames{
+inline constexpr std::array<std::string_view, 18> kExperimentMetricNames{
     "final_disparity_px",
     "true_gaze_error_deg",
     "settle_time_s",
@@ -30,6 +30,9 @@ inline constexpr std::array<std::string_view, 15> kExperimentMetricNames{
     "target_occluded_s",
     "objects_visited",
     "all_objects_visited_s",
+    "time_to_touch_s",
+    "touch_position_error_m",
+    "estimated_target_error_m",
 };
 
 /// When the gaze counts as settled (settle_time_s, reverge_time_s): both bounds hold.
@@ -40,7 +43,8 @@ struct SettleConfig {
 
 /// `evaluation:`; every key is optional.
 struct EvaluationConfig {
-  /// The scene object the gaze is judged against; empty when the file names none. Checked
+  /// The scene object the gaze (and a reach) is judged against; empty when the file names none.
+  /// Checked
   /// against the scene's objects when the experiment has a scene.
   std::string target_object;
   std::vector<double> key_frames_s;  ///< Sim times of the key frames, each in [0, duration_s].

@@ -3,8 +3,11 @@
 #include <array>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "cambio/config/arm_task_config.hpp"
 
 #include "cambio/hal/eye.hpp"
 
@@ -70,12 +73,14 @@ struct GazeTargetConfig {
   std::array<double, 2> angles_rad{};
 };
 
-/// One entry of `commands:`, sent to the gaze loop at sim time at_s.
+/// One entry of `commands:`, sent at sim time at_s: to the gaze loop, or to the arms when `arm`
+/// is set (the gaze fields are then unused).
 struct GazeCommandConfig {
   double at_s = 0.0;  ///< In [0, duration_s]; not less than the entry before.
   GazeAction action = GazeAction::kHold;
   GazeTargetConfig target;  ///< kNone for hold and pursue.
   bool verge = true;        ///< The other eye verges on what the dominant eye fixates.
+  std::optional<ArmCommandConfig> arm;
 };
 
 }  // namespace cambio::config

@@ -91,6 +91,8 @@ class MapReader {
             std::shared_ptr<IssueList> issues);
 
   bool has(std::string_view key) const;
+  /// Whether `key` holds a list (for a key that takes a name or a list of numbers).
+  bool is_list(std::string_view key) const;
 
   double number(std::string_view key, Range range = {});
   double number_or(std::string_view key, double fallback, Range range = {});

@@ -69,6 +69,19 @@ class GroundTruth {
   RayHit segment_blocker(const Eigen::Vector3d& p_from_W, const Eigen::Vector3d& p_to_W,
                          std::string_view ignore_object = {}, double tolerance_m = 1e-3);
 
+  /// Signed distance from `p_W` to the surface of a scene object (m): positive outside, negative
+  /// inside, the nearest of the object's geoms (spheres, boxes, cylinders, capsules; an
+  /// ellipsoid by its largest radius). Throws std::out_of_range for an unknown object,
+  /// std::invalid_argument for a geom of another shape.
+  double distance_to_object_m(const std::string& object_name, const Eigen::Vector3d& p_W);
+  /// The gap between a touch sensor's end effector (World::end_effector_bodies of `link_name`:
+  /// what the sensor feels) and a scene object (m): the smallest signed distance from its
+  /// colliding geometry to the object's surface and back, boxes sampled along their edges,
+  /// capsules and cylinders along their axis less the radius, spheres at their centre less the
+  /// radius (within an eighth of a box edge where two edges cross); negative when they overlap
+  /// (a contact's depth). Throws std::out_of_range for an unknown link or object.
+  double end_effector_gap_m(const std::string& link_name, const std::string& object_name);
+
   /// Renders a view of the newest state: a rig camera at its intrinsics (width, height 0) or
   /// any MuJoCo camera (the overview) at the given size. Writes top-row-first RGB into `rgb`
   /// (resized if needed, stamped with the state's time) and, if `depth_m` is given, metric depth
@@ -83,6 +96,8 @@ class GroundTruth {
   }
 
  private:
+  int object_body(const std::string& object_name) const;
+
   const World& world_;
   hal::TripleBuffer<WorldSnapshot>& snapshots_;
   std::mutex mutex_;  ///< Evaluation threads only; no loop takes it.

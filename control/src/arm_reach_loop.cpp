@@ -1,0 +1,408 @@
+#include "cambio/control/arm_reach_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "arm_reach_servo_visp.hpp"
+
+namespace cambio::control {
+namespace {
+
+std::size_t at(int index) {
+  return static_cast<std::size_t>(index);
+}
+
+/// Moves `q` toward `goal` by at most `step` (> 0).
+double step_toward(double q, double goal, double step) {
+  return q + std::clamp(goal - q, -step, step);
+}
+
+}  // namespace
+
+ArmReachLoop::ArmReachLoop(const hal::HardwareInfo& hardware, const ArmReachParams& params,
+                           const JointTargetFrame& pose, BelievedJoints believed,
+                           const hal::SeqlockChannel<GazeStatus>* gaze,
+                           const hal::SeqlockChannel<ArmCommand>& commands,
+                           std::array<hal::TouchSensor*, 2> touch)
+    : params_(params),
+      command_kinematics_(hardware),
+      believed_kinematics_(hardware),
+      believed_(std::move(believed)),
+      gaze_(gaze),
+      commands_(commands),
+      pose_(pose) {
+  if (!(params.gain_per_s > 0.0) || !(params.max_speed_m_s > 0.0) ||
+      !(params.max_acceleration_m_s2 > 0.0) || !(params.probe_depth_m >= 0.0) ||
+      !(params.arrive_tolerance_m > 0.0) || !(params.approach_m >= 0.0) ||
+      !(params.posture_gain_per_s >= 0.0) || !(params.gripper_speed_rad_s > 0.0) ||
+      !(params.hand_pitches.step_rad > 0.0) || !(params.hand_pitches.max_deviation_rad >= 0.0)) {
+    throw std::invalid_argument(
+        "arm loop: gain, speed, acceleration, tolerance, gripper speed and pitch step must be > "
+        "0, the probe depth, approach, posture gain and pitch range >= 0");
+  }
+  const int rig_count = command_kinematics_.rig_joint_count();
+  if (pose.count != rig_count || believed_.rig_joint_count() != rig_count) {
+    throw std::invalid_argument("arm loop: the pose and the believed joints must hold the rig's " +
+                                std::to_string(rig_count) + " joints");
+  }
+  for (std::size_t side = 0; side < 2; ++side) {
+    if (params.groups[side].empty()) continue;
+    Arm& arm = arms_[side];
+    arm.present = true;
+    arm.chain = find_arm_chain(hardware, params.groups[side]);
+    arm.touch = touch[side];
+    arm.wrist_frame = Kinematics::link_frame(arm.chain.joints[3]);
+    arm_rig_indices_.insert(arm_rig_indices_.end(), arm.chain.rig.begin(), arm.chain.rig.end());
+  }
+  if (arm_rig_indices_.empty()) throw std::invalid_argument("arm loop: no arm group given");
+  servo_ = std::make_unique<detail::ArmReachServoVisp>(params.gain_per_s);
+  for (const auto& joint : hardware.joints) limits_tree_.push_back(joint.limits);
+  rig_to_tree_.assign(command_kinematics_.rig_to_tree().begin(),
+                      command_kinematics_.rig_to_tree().end());
+  q_command_tree_.assign(at(command_kinematics_.joint_count()), 0.0);
+  q_believed_rig_.assign(at(rig_count), 0.0);
+  for (int i = 0; i < rig_count; ++i) {
+    q_command_tree_[at(rig_to_tree_[at(i)])] = pose.commands[at(i)].value;
+    q_believed_rig_[at(i)] = pose.commands[at(i)].value;
+  }
+  q_believed_tree_ = q_command_tree_;
+  for (Arm& arm : arms_) {
+    if (arm.present) arm.gripper_goal_rad = q_command_tree_[at(arm.chain.joints[4])];
+  }
+  J_W_ = command_kinematics_.make_jacobian();
+  (void)command_kinematics_.update(q_command_tree_);
+  (void)believed_kinematics_.update(q_believed_tree_);
+}
+
+ArmReachLoop::~ArmReachLoop() = default;
+
+const ArmChain* ArmReachLoop::arm(int side) const {
+  if (side < 0 || side > 1 || !arms_[at(side)].present) return nullptr;
+  return &arms_[at(side)].chain;
+}
+
+hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
+  const std::int64_t now_ns = tick.now_ns;
+  const double dt_s = tick.period_s;
+  (void)believed_.read(q_believed_rig_);
+  for (std::size_t i = 0; i < q_believed_rig_.size(); ++i) {
+    q_believed_tree_[at(rig_to_tree_[i])] = q_believed_rig_[i];
+  }
+  (void)believed_kinematics_.update(q_believed_tree_);
+  ArmCommand command;
+  if (commands_.read(command) && command.sequence != 0 &&
+      command.sequence != last_command_sequence_) {
+    last_command_sequence_ = command.sequence;
+    apply(command, now_ns);
+  }
+
+  for (int side = 0; side < 2; ++side) {
+    Arm& arm = arms_[at(side)];
+    if (!arm.present) continue;
+    ArmStatus::Arm& s = status_.arms[at(side)];
+    const int gripper = arm.chain.joints[4];
+    double& opening = q_command_tree_[at(gripper)];
+    opening = step_toward(opening, arm.gripper_goal_rad, params_.gripper_speed_rad_s * dt_s);
+    if (arm.move_joint >= 0) {
+      double& q = q_command_tree_[at(arm.move_joint)];
+      q = step_toward(q, arm.move_goal_rad,
+                      0.5 * limits_tree_[at(arm.move_joint)].max_velocity_rad_s * dt_s);
+      if (q == arm.move_goal_rad) arm.move_joint = -1;
+    }
+    if (s.phase == ReachPhase::kReaching) reach_step(side, now_ns, dt_s);
+    s.gripper_closed = arm.gripper_goal_rad <= arm.chain.limits[4].min_position_rad &&
+                       opening <= arm.chain.limits[4].min_position_rad;
+    const Eigen::Vector3d tip = tip_W(believed_kinematics_, arm);
+    for (int i = 0; i < 3; ++i) s.gripper_W_m[at(i)] = tip[i];
+    s.distance_to_target_m = s.command_ns != 0 ? (tip - arm.target_W).norm() : 0.0;
+  }
+
+  for (int i = 0; i < pose_.count; ++i) {
+    pose_.commands[at(i)].value = q_command_tree_[at(rig_to_tree_[at(i)])];
+  }
+  pose_.stamp_ns = now_ns;
+  targets_.write(pose_);
+  status_.stamp_ns = now_ns;
+  status_channel_.write(status_);
+  return hal::Status::kOk;
+}
+
+void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcept {
+  ++status_.commands_applied;
+  // The sides a command names; kNearest is both, except for a reach (decided below).
+  const bool left = command.arm != ArmSide::kRight && arms_[0].present;
+  const bool right = command.arm != ArmSide::kLeft && arms_[1].present;
+  const std::array<bool, 2> sides{left, right};
+  switch (command.action) {
+    case ArmAction::kHold:
+      for (int side = 0; side < 2; ++side) {
+        if (sides[at(side)]) stop(side);
+      }
+      break;
+    case ArmAction::kGrasp:
+    case ArmAction::kRelease:
+      for (int side = 0; side < 2; ++side) {
+        if (!sides[at(side)]) continue;
+        const hal::JointLimits& limits = arms_[at(side)].chain.limits[4];
+        arms_[at(side)].gripper_goal_rad =
+            command.action == ArmAction::kGrasp ? limits.min_position_rad : limits.max_position_rad;
+      }
+      break;
+    case ArmAction::kMoveJoint: {
+      for (int side = 0; side < 2; ++side) {
+        Arm& arm = arms_[at(side)];
+        if (!arm.present) continue;
+        for (std::size_t k = 0; k < 5; ++k) {
+          if (arm.chain.rig[k] != command.joint_rig_index) continue;
+          const hal::JointLimits& limits = arm.chain.limits[k];
+          const double goal = std::clamp(std::isfinite(command.position_rad)
+                                             ? command.position_rad
+                                             : q_command_tree_[at(arm.chain.joints[k])],
+                                         limits.min_position_rad, limits.max_position_rad);
+          if (k == 4) {
+            arm.gripper_goal_rad = goal;
+          } else {
+            stop(side);
+            arm.move_joint = arm.chain.joints[k];
+            arm.move_goal_rad = goal;
+          }
+          return;
+        }
+      }
+      std::snprintf(status_.message.data(), status_.message.size(),
+                    "move joint: rig joint %d is not an arm joint", command.joint_rig_index);
+      break;
+    }
+    case ArmAction::kReach: {
+      Eigen::Vector3d target_W;
+      if (command.target == ReachTargetKind::kPoint) {
+        target_W =
+            Eigen::Vector3d(command.point_W_m[0], command.point_W_m[1], command.point_W_m[2]);
+      } else {
+        // A torn read keeps the last clean status.
+        if (gaze_ != nullptr) (void)gaze_->read(gaze_status_);
+        const bool fixation = gaze_ != nullptr && gaze_status_.believed_fixation_valid;
+        if (!fixation) {
+          for (int side = 0; side < 2; ++side) {
+            if (sides[at(side)]) {
+              refuse(side, gaze_ == nullptr
+                               ? "no fixation: the arms have no gaze loop to ask"
+                               : "no fixation: the eyes' axes do not meet in front of them");
+            }
+          }
+          break;
+        }
+        target_W = Eigen::Vector3d(gaze_status_.believed_fixation_W_m[0],
+                                   gaze_status_.believed_fixation_W_m[1],
+                                   gaze_status_.believed_fixation_W_m[2]);
+      }
+      if (command.arm != ArmSide::kNearest) {
+        const int side = command.arm == ArmSide::kLeft ? 0 : 1;
+        if (arms_[at(side)].present) {
+          (void)start_reach(side, target_W, now_ns);
+        } else {
+          std::snprintf(status_.message.data(), status_.message.size(),
+                        "no such arm: the rig has no %s arm", side == 0 ? "left" : "right");
+        }
+        break;
+      }
+      // The nearer shoulder first; the other arm if the nearer cannot, the nearer's reason if
+      // neither can.
+      int first = arms_[0].present ? 0 : 1;
+      if (arms_[0].present && arms_[1].present &&
+          (target_W - arms_[1].chain.shoulder_W).norm() <
+              (target_W - arms_[0].chain.shoulder_W).norm()) {
+        first = 1;
+      }
+      // A refusal the other arm makes good is no refusal: the nearer arm's status and the
+      // message are put back as they were.
+      const ArmStatus::Arm first_before = status_.arms[at(first)];
+      const std::array<char, 160> message_before = status_.message;
+      if (start_reach(first, target_W, now_ns)) break;
+      const std::array<char, 160> first_message = status_.message;
+      const int second = 1 - first;
+      if (!arms_[at(second)].present) break;
+      const ArmStatus::Arm second_before = status_.arms[at(second)];
+      if (start_reach(second, target_W, now_ns)) {
+        status_.arms[at(first)] = first_before;
+        status_.message = message_before;
+        break;
+      }
+      status_.arms[at(second)] = second_before;
+      status_.message = first_message;
+      break;
+    }
+  }
+}
+
+bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
+                               std::int64_t now_ns) noexcept {
+  Arm& arm = arms_[at(side)];
+  const double opening = q_command_tree_[at(arm.chain.joints[4])];
+  const ReachCheck check =
+      check_reach(arm.chain, params_.fingers, opening, target_W, params_.hand_pitches);
+  if (!check.reachable) {
+    refuse(side, check.message.data());
+    return false;
+  }
+  (void)command_kinematics_.update(q_command_tree_);
+  const Eigen::Vector3d tip = tip_W(command_kinematics_, arm);
+  arm.target_W = target_W;
+  arm.aim_W = target_W;
+  arm.q_goal_rad = check.q_rad;
+  arm.approaching = false;
+  // The way in: horizontal, from the shoulder's side of the target, as a level hand points.
+  Eigen::Vector3d in = target_W - arm.chain.shoulder_W;
+  in.z() = 0.0;
+  if (in.norm() > 1e-9 && params_.approach_m > 0.0) {
+    in.normalize();
+    const Eigen::Vector3d approach = target_W - params_.approach_m * in;
+    // Only where the arm can go, and only if the hand is not already past it.
+    if ((tip - target_W).dot(in) < -params_.approach_m &&
+        check_reach(arm.chain, params_.fingers, opening, approach, params_.hand_pitches)
+            .reachable) {
+      arm.approach_W = approach;
+      arm.approaching = true;
+    }
+  } else {
+    in = target_W - tip;
+    in = in.norm() > 1e-9 ? Eigen::Vector3d(in.normalized()) : Eigen::Vector3d::Zero();
+  }
+  if (params_.probe_depth_m > 0.0 && in.norm() > 0.0) {
+    // The probe only where the arm can follow it; otherwise the reach ends at the target.
+    const Eigen::Vector3d aim = target_W + params_.probe_depth_m * in;
+    const ReachCheck aim_check =
+        check_reach(arm.chain, params_.fingers, opening, aim, params_.hand_pitches);
+    if (aim_check.reachable) {
+      arm.aim_W = aim;
+      arm.q_goal_rad = aim_check.q_rad;
+    }
+  }
+  arm.move_joint = -1;
+  ArmStatus::Arm& s = status_.arms[at(side)];
+  s.phase = ReachPhase::kReaching;
+  s.command_ns = now_ns;
+  s.touch_ns = 0;
+  for (int i = 0; i < 3; ++i) s.target_W_m[at(i)] = target_W[i];
+  return true;
+}
+
+void ArmReachLoop::refuse(int side, const char* why) noexcept {
+  status_.arms[at(side)].phase = ReachPhase::kRefused;
+  std::snprintf(status_.message.data(), status_.message.size(), "%s", why);
+}
+
+void ArmReachLoop::stop(int side) noexcept {
+  ArmStatus::Arm& s = status_.arms[at(side)];
+  if (s.phase == ReachPhase::kReaching) s.phase = ReachPhase::kIdle;
+  arms_[at(side)].move_joint = -1;
+}
+
+void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexcept {
+  Arm& arm = arms_[at(side)];
+  ArmStatus::Arm& s = status_.arms[at(side)];
+  const ArmChain& chain = arm.chain;
+  hal::TouchReading reading;
+  if (arm.touch != nullptr && arm.touch->read(reading) == hal::Status::kOk && reading.in_contact) {
+    // Stop where the arm is, not where it was commanded: the command leads the drives, and
+    // holding it would keep pushing into what was touched.
+    s.phase = ReachPhase::kTouching;
+    s.touch_ns = now_ns;
+    for (std::size_t k = 0; k < 4; ++k) {
+      q_command_tree_[at(chain.joints[k])] = q_believed_tree_[at(chain.joints[k])];
+    }
+    arm.gripper_goal_rad = chain.limits[4].min_position_rad;
+    return;
+  }
+  (void)command_kinematics_.update(q_command_tree_);
+  const Eigen::Vector3d tip = tip_W(command_kinematics_, arm);
+  // In front of the target near enough (a quarter of the approach): turn in without stopping.
+  if (arm.approaching && (arm.approach_W - tip).norm() <= 0.25 * params_.approach_m) {
+    arm.approaching = false;
+  }
+  const Eigen::Vector3d e_W = (arm.approaching ? arm.approach_W : arm.aim_W) - tip;
+  if (!arm.approaching && e_W.norm() <= params_.arrive_tolerance_m) {
+    s.phase = ReachPhase::kArrived;
+    return;
+  }
+  // The fingertips' midpoint is a point of the wrist link: v_p = v_wrist + w x (p - o_wrist).
+  (void)command_kinematics_.jacobian_W(arm.wrist_frame, J_W_);
+  const Eigen::Vector3d r = tip - command_kinematics_.X_WF(arm.wrist_frame).translation();
+  Eigen::Matrix<double, 3, 4> J_v;
+  for (int k = 0; k < 4; ++k) {
+    const int column = chain.joints[at(k)];
+    J_v.col(k) = J_W_.block<3, 1>(0, column) - r.cross(J_W_.block<3, 1>(3, column));
+  }
+  // Secondary task: toward the reach check's joints at the aim (within every limit), the
+  // gradient descent of |q - q_goal|^2 / 2. In the primary task's null space it only chooses
+  // among the ways to the same fingertip motion: the elbow and the wrist's pitch, which a
+  // minimum-norm law alone would drive into their limits on some ways in.
+  Eigen::Vector4d u2;
+  for (int k = 0; k < 4; ++k) {
+    u2[k] = -params_.posture_gain_per_s *
+            (q_command_tree_[at(chain.joints[at(k)])] - arm.q_goal_rad[at(k)]);
+  }
+  Eigen::Vector4d q, q_min, q_max;
+  for (int k = 0; k < 4; ++k) {
+    q[k] = q_command_tree_[at(chain.joints[at(k)])];
+    q_min[k] = chain.limits[at(k)].min_position_rad;
+    q_max[k] = chain.limits[at(k)].max_position_rad;
+  }
+  // A joint at a limit that the law drives further out is taken out of the task (its column and
+  // its secondary motion zeroed) and the law solved again by the joints left: otherwise it would
+  // be clamped while the others move as if it had not been, off the straight line.
+  Eigen::Vector4d qdot;
+  std::array<bool, 4> blocked{};
+  for (int pass = 0; pass < 4; ++pass) {
+    Eigen::Matrix<double, 3, 4> J_free = J_v;
+    Eigen::Vector4d u2_free = u2;
+    for (int k = 0; k < 4; ++k) {
+      if (!blocked[at(k)]) continue;
+      J_free.col(k).setZero();
+      u2_free[k] = 0.0;
+    }
+    if (!servo_->control_law(e_W, J_free, u2_free, q, q_min, q_max, qdot) || !qdot.allFinite()) {
+      refuse(side, "the arm servo found no motion toward the target (a singular arm)");
+      return;
+    }
+    bool again = false;
+    for (int k = 0; k < 4; ++k) {
+      const hal::JointLimits& limits = chain.limits[at(k)];
+      if (!blocked[at(k)] && ((q[k] <= limits.min_position_rad && qdot[k] < 0.0) ||
+                              (q[k] >= limits.max_position_rad && qdot[k] > 0.0))) {
+        blocked[at(k)] = true;
+        again = true;
+      }
+    }
+    if (!again) break;
+  }
+  // Capped speed, ramped from the command; every joint within its velocity limit. One scale
+  // for all: the direction of motion is kept.
+  const double since_s = static_cast<double>(now_ns - s.command_ns) * 1e-9 + dt_s;
+  const double cap_m_s = std::min(params_.max_speed_m_s, params_.max_acceleration_m_s2 * since_s);
+  const double speed_m_s = (J_v * qdot).norm();
+  double scale = speed_m_s > cap_m_s ? cap_m_s / speed_m_s : 1.0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double limit = chain.limits[k].max_velocity_rad_s;
+    if (std::abs(qdot[static_cast<Eigen::Index>(k)]) * scale > limit) {
+      scale = limit / std::abs(qdot[static_cast<Eigen::Index>(k)]);
+    }
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    const hal::JointLimits& limits = chain.limits[k];
+    double& q_k = q_command_tree_[at(chain.joints[k])];
+    // Integrated on the clamped value: nothing winds up at a limit.
+    q_k = std::clamp(q_k + scale * qdot[static_cast<Eigen::Index>(k)] * dt_s,
+                     limits.min_position_rad, limits.max_position_rad);
+  }
+}
+
+Eigen::Vector3d ArmReachLoop::tip_W(const Kinematics& kinematics, const Arm& arm) const noexcept {
+  const double opening = kinematics.q_rad()[at(arm.chain.joints[4])];
+  return kinematics.X_WF(arm.wrist_frame) *
+         Eigen::Vector3d(arm.chain.hand_m(params_.fingers, opening), 0.0, 0.0);
+}
+
+}  // namespace cambio::control

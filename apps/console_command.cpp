@@ -133,6 +133,8 @@ MainJobResult run_lockstep(ConsoleRun& run) {
       const ConsoleSession::Next next = run.session.execute(*line, now_ns);
       quit = next.quit;
       if (next.wait_s > 0.0) wait_until_ns = now_ns + static_cast<std::int64_t>(next.wait_s * 1e9);
+      // A command takes effect at the loops' next cycle; the next line waits for it.
+      if (next.sent) wait_until_ns = std::max(wait_until_ns, now_ns + run.job.control_period_ns());
       run.lines.done_with_line();
     }
     if (quit) return -1;
@@ -192,6 +194,8 @@ MainJobResult run_realtime(ConsoleRun& run) {
     const ConsoleSession::Next next = run.session.execute(*line, now_ns);
     if (next.quit) break;
     if (next.wait_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(next.wait_s));
+    if (next.sent)
+      std::this_thread::sleep_for(std::chrono::nanoseconds(run.job.control_period_ns()));
     run.lines.done_with_line();
   }
   stop_run = true;

@@ -76,7 +76,10 @@ ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64
     out_ << "error: " << error->message << "\n";
     return {};
   }
-  return carry_out(std::get<console::Command>(*parsed), now_ns);
+  sent_ = false;
+  Next next = carry_out(std::get<console::Command>(*parsed), now_ns);
+  next.sent = sent_;
+  return next;
 }
 
 void ConsoleSession::report(const behaviour::ActionResult& result, const std::string& done) {
@@ -85,6 +88,7 @@ void ConsoleSession::report(const behaviour::ActionResult& result, const std::st
     out_ << "refused: " << result.message << "\n";
     return;
   }
+  sent_ = true;
   if (!result.message.empty()) out_ << "clamped: " << result.message << "\n";
   out_ << done << "\n";
 }

@@ -22,6 +22,9 @@ class ConsoleSession {
   struct Next {
     bool quit = false;
     double wait_s = 0.0;  ///< Advance this much run time before the next line (0: none).
+    /// The line sent a command: the loops must run a cycle before the next line, or a second
+    /// command on the same (latest-value) channel would replace it unseen.
+    bool sent = false;
   };
 
   /// `scene_objects`: the names `look object NAME` accepts (the simulator's scene).
@@ -36,6 +39,7 @@ class ConsoleSession {
  private:
   Next carry_out(const console::Command& command, std::int64_t now_ns);
   void report(const behaviour::ActionResult& result, const std::string& done);
+  bool sent_ = false;  // Set by report() for the line being carried out.
   /// The target of look/saccade as the gaze loop takes it; false (and says why) if none.
   bool aim(const console::Target& target, bool saccade);
   void print_status(std::int64_t now_ns);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <stdexcept>
 
@@ -438,6 +439,11 @@ MainJobResult MainJob::run_stepped(const std::atomic<bool>& stop,
   result.stopped_by_signal = stop.load();
   collect(result);
   return result;
+}
+
+std::int64_t MainJob::control_period_ns() const {
+  return static_cast<std::int64_t>(
+      std::ceil(1e9 / loop_schedule(experiment_.rig, "control").rate_hz));
 }
 
 control::BelievedJoints MainJob::make_believed_joints() const {

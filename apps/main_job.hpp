@@ -146,6 +146,8 @@ class MainJob {
   control::BelievedJoints make_believed_joints() const;
   /// The rig's joints in rig order (the command frames' order).
   const std::vector<std::string>& joint_order() const { return joint_order_; }
+  /// The control loops' period (the gaze and arm loops take one command per cycle).
+  std::int64_t control_period_ns() const;
   const hal::HardwareInfo& hardware() const { return hardware_; }
   /// The simulator's ground truth; null when the rig has no sim backend.
   sim::GroundTruth* ground_truth();

@@ -32,11 +32,12 @@ class ConsoleTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(directory_); }
 
-  CommandResult console(const std::string& script, const std::string& extra = "") {
+  CommandResult console(const std::string& script, const std::string& extra = "",
+                        const std::string& experiment = "vergence_sphere") {
     const fs::path path = directory_ / "script.txt";
     std::ofstream(path) << script;
-    return run_cambio("console firmware_config/experiments/vergence_sphere.yaml --rtf 0 " + extra +
-                      " < '" + path.string() + "'");
+    return run_cambio("console firmware_config/experiments/" + experiment + ".yaml --rtf 0 " +
+                      extra + " < '" + path.string() + "'");
   }
 
   fs::path directory_;
@@ -124,7 +125,8 @@ TEST_F(ConsoleTest, BadLinesAreRefusedWithWhatWasExpectedAndTheRunGoesOn) {
   EXPECT_NE(r.output.find("gaze: pursue"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("gaze: hold"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("(5 lines refused)"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("ran 0.7 s"), std::string::npos) << r.output;
+  // Two waits, and one control cycle after each of the three commands sent.
+  EXPECT_NE(r.output.find("ran 0.715 s"), std::string::npos) << r.output;
 }
 
 TEST_F(ConsoleTest, APipedScriptIsDeterministic) {
@@ -168,6 +170,57 @@ TEST_F(ConsoleTest, OnTheRealtimeExecutorTheLoopsRunOnTheirThreadsAndWaitSleeps)
   ASSERT_EQ(p.size(), 3U) << r.output;
   EXPECT_NEAR(std::hypot(p[0] - kSphereX, p[1] - kSphereY, p[2] - kSphereZ), kSphereRadius, 0.03)
       << r.output;
+}
+
+// An arm's line of the last status: "right arm: touching, gripper closed at (x, y, z) m...".
+std::string arm_line(const std::string& output, const std::string& side) {
+  const std::regex line(side + R"( arm: [^\n]*)");
+  std::string last;
+  for (auto it = std::sregex_iterator(output.begin(), output.end(), line);
+       it != std::sregex_iterator(); ++it) {
+    last = it->str();
+  }
+  return last;
+}
+
+TEST_F(ConsoleTest, TheNearerArmReachesWhatTheHeadFixatesTouchesItAndGrasps) {
+  // reach_touch's cube (scenes/reach_touch.yaml) is nearer the right shoulder.
+  const CommandResult r = console(
+      "saccade object cube\n"
+      "wait 1.2\n"
+      "reach\n"
+      "wait 2.5\n"
+      "status\n"
+      "release right\n"
+      "wait 0.5\n"
+      "status\n"
+      "move left_elbow 30deg\n"
+      "reach point 2 0 1 left\n"
+      "wait 1.5\n"
+      "status\n",
+      "", "reach_touch");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("reaching what the head fixates"), std::string::npos) << r.output;
+  const std::size_t first_status = r.output.find("cambio> release right");
+  ASSERT_NE(first_status, std::string::npos) << r.output;
+  const std::string after_reach = r.output.substr(0, first_status);
+  EXPECT_NE(arm_line(after_reach, "right").find("right arm: touching, gripper closed"),
+            std::string::npos)
+      << r.output;
+  const std::string after_release = r.output.substr(0, r.output.find("cambio> move left_elbow"));
+  EXPECT_NE(arm_line(after_release, "right").find("gripper open"), std::string::npos) << r.output;
+  // The left arm's joint moved (true angle from the simulator); its reach is out of range and
+  // the console says why.
+  EXPECT_NEAR(true_joint_deg(r.output, "left_elbow"), 30.0, 0.5) << r.output;
+  EXPECT_NE(r.output.find("note: the arms refused: out of reach: the target is"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(ConsoleTest, AnExperimentWithoutTheGazeTaskIsRefusedBeforeAnythingRuns) {
+  const CommandResult r = console("status\n", "", "pan_tilt_hold");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the console drives the gaze task"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("cambio> "), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -46,6 +46,8 @@ struct ActionResult {
 
 /// What a behaviour (or the console) can ask of the robot. Each call sends one command; the
 /// robot carries it out over the following control cycles (watch Observation::gaze / arms).
+/// The head and the arms each take the newest command at their next cycle: a second gaze (or
+/// arm) action before that replaces the first (one per step, or across steps).
 class Actions {
  public:
   virtual ~Actions() = default;

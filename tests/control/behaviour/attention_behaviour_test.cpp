@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "recording_actions.hpp"
+
 namespace cambio::behaviour {
 namespace {
 
@@ -21,32 +23,7 @@ struct Peak {
   float saliency;
 };
 
-// Records saccades (the directions from the eye, at the origin); the test's world carries them
-// out.
-class RecordingActions final : public Actions {
- public:
-  std::vector<Eigen::Vector3d> saccades;
-  int holds = 0;
-  ActionResult look_at_pixel(double, double) override { return {}; }
-  ActionResult look_at_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_to_pixel(double, double) override { return {}; }
-  ActionResult saccade_to_point(const Eigen::Vector3d& p_W_m) override {
-    saccades.push_back(p_W_m.normalized());
-    return {true, ""};
-  }
-  ActionResult saccade_by_angles(double, double) override { return {}; }
-  ActionResult pursue() override { return {}; }
-  ActionResult hold() override {
-    ++holds;
-    return {true, ""};
-  }
-  ActionResult verge(bool) override { return {}; }
-  ActionResult reach_fixated(control::ArmSide) override { return {}; }
-  ActionResult reach_point(const Eigen::Vector3d&, control::ArmSide) override { return {}; }
-  ActionResult grasp(control::ArmSide) override { return {}; }
-  ActionResult release(control::ArmSide) override { return {}; }
-  ActionResult move_joint(std::string_view, double) override { return {}; }
-};
+using testing::RecordingActions;
 
 // A 640 x 480 pinhole eye with one 16 x 16 retina level of 40 px blocks centred on the image.
 class SyntheticWorld {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "recording_actions.hpp"
+
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/shipped_config.hpp"
@@ -18,26 +20,7 @@ hal::HardwareInfo shipped_rig() {
       config::load_rig(config::find_shipped_config("rigs/cambio.yaml")));
 }
 
-class HoldCounter final : public Actions {
- public:
-  int holds = 0;
-  ActionResult look_at_pixel(double, double) override { return {}; }
-  ActionResult look_at_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_to_pixel(double, double) override { return {}; }
-  ActionResult saccade_to_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_by_angles(double, double) override { return {}; }
-  ActionResult pursue() override { return {}; }
-  ActionResult hold() override {
-    ++holds;
-    return {true, ""};
-  }
-  ActionResult verge(bool) override { return {}; }
-  ActionResult reach_fixated(control::ArmSide) override { return {}; }
-  ActionResult reach_point(const Eigen::Vector3d&, control::ArmSide) override { return {}; }
-  ActionResult grasp(control::ArmSide) override { return {}; }
-  ActionResult release(control::ArmSide) override { return {}; }
-  ActionResult move_joint(std::string_view, double) override { return {}; }
-};
+using testing::RecordingActions;
 
 // Keeps what it saw; throws at the step it is told to.
 class Watcher final : public Behaviour {
@@ -102,7 +85,7 @@ hal::LoopTick tick_at(std::uint64_t cycle) {
 TEST(BehaviourLoopTest, ObservesTheChannelsAndTheDominantEyesBelievedPose) {
   Rig rig;
   Watcher watcher;
-  HoldCounter actions;
+  RecordingActions actions;
   BehaviourLoopSources sources{&rig.ssm, {}, &rig.gaze, nullptr, {"intensity", "log@1.4"}};
   BehaviourLoop loop("behaviour", rig.hardware, hal::Eye::kLeft, sources, rig.believed(), watcher,
                      actions);
@@ -137,7 +120,7 @@ TEST(BehaviourLoopTest, ABehaviourThatThrowsIsStoppedHoldingAndTheErrorKept) {
   Rig rig;
   Watcher watcher;
   watcher.throw_at_step = 3;
-  HoldCounter actions;
+  RecordingActions actions;
   BehaviourLoop loop("behaviour", rig.hardware, hal::Eye::kLeft,
                      BehaviourLoopSources{&rig.ssm, {}, &rig.gaze, nullptr, {}}, rig.believed(),
                      watcher, actions);

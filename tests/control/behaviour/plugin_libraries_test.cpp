@@ -5,29 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include "recording_actions.hpp"
+
 namespace cambio::behaviour {
 namespace {
 
-class HoldCounter final : public Actions {
- public:
-  int holds = 0;
-  ActionResult look_at_pixel(double, double) override { return {}; }
-  ActionResult look_at_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_to_pixel(double, double) override { return {}; }
-  ActionResult saccade_to_point(const Eigen::Vector3d&) override { return {}; }
-  ActionResult saccade_by_angles(double, double) override { return {}; }
-  ActionResult pursue() override { return {}; }
-  ActionResult hold() override {
-    ++holds;
-    return {true, ""};
-  }
-  ActionResult verge(bool) override { return {}; }
-  ActionResult reach_fixated(control::ArmSide) override { return {}; }
-  ActionResult reach_point(const Eigen::Vector3d&, control::ArmSide) override { return {}; }
-  ActionResult grasp(control::ArmSide) override { return {}; }
-  ActionResult release(control::ArmSide) override { return {}; }
-  ActionResult move_joint(std::string_view, double) override { return {}; }
-};
+using testing::RecordingActions;
 
 std::string what_of(const std::function<void()>& work) {
   try {
@@ -47,7 +30,7 @@ TEST(PluginLibrariesTest, APluginRegistersIntoTheProgramsRegistryAndItsBehaviour
   BehaviourParams params({{"every", {"3", "e.yaml:9"}}});
   {
     auto behaviour = registry.make("counting", params);
-    HoldCounter actions;
+    RecordingActions actions;
     Observation observation;
     for (int i = 0; i < 7; ++i) behaviour->step(observation, actions);
     EXPECT_EQ(actions.holds, 2);

@@ -20,7 +20,7 @@ BehaviourConfig read_behaviour(MapReader behaviour,
       continue;
     }
     const std::string path = resolve(plugins[i]);
-    if (const auto problem = config_file_problem(path)) {
+    if (const auto problem = readable_file_problem(path)) {
       std::string message = "expected a readable shared library, found " + in_quotes(plugins[i]);
       if (path != plugins[i]) message += " (resolved to " + in_quotes(path) + ")";
       behaviour.error("plugins", i, message + ": " + *problem);

@@ -99,12 +99,13 @@ class FileDescriptor {
 };
 
 /// Opens `path` for reading if it is a regular file of at most kMaxConfigFileBytes; else why not.
-std::optional<std::string> open_config_file(const std::string& path, FileDescriptor& file) {
+std::optional<std::string> open_config_file(const std::string& path, FileDescriptor& file,
+                                            std::uintmax_t max_bytes = kMaxConfigFileBytes) {
   // stat() first: opening a device or a FIFO can block or act on it.
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) return describe_errno(errno);
   if (!S_ISREG(info.st_mode)) return describe_not_regular(info.st_mode);
-  if (static_cast<std::uintmax_t>(info.st_size) > kMaxConfigFileBytes) {
+  if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) {
     return describe_too_large("it holds", static_cast<std::uintmax_t>(info.st_size));
   }
   // O_NONBLOCK: should the path have become a FIFO since stat(), open() does not wait for it.
@@ -182,6 +183,11 @@ YAML::Node parse_one_document(const std::string& text, const std::string& name) 
 std::optional<std::string> config_file_problem(const std::string& path) {
   FileDescriptor file;
   return open_config_file(path, file);
+}
+
+std::optional<std::string> readable_file_problem(const std::string& path) {
+  FileDescriptor file;
+  return open_config_file(path, file, std::numeric_limits<std::uintmax_t>::max());
 }
 
 ConfigDocument::ConfigDocument(YAML::Node root, std::string file)

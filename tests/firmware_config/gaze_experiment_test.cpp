@@ -672,7 +672,9 @@ namespace cambio::config {
 namespace {
 
 TEST_F(GazeExperiment, ABehaviourIsReadWithItsPluginsResolvedAndItsParamsAsWritten) {
-  const std::string plugin = folder_.write("libscan.so", "");
+  // A plugin is no config file: larger than a config's 1 MiB is fine (a sanitized build's
+  // plugin is).
+  const std::string plugin = folder_.write("libscan.so", std::string(3u << 20, '\0'));
   const std::filesystem::path folder = std::filesystem::path(plugin).parent_path();
   const ExperimentConfig config = load_experiment_from_string(
       text("  behaviour:\n"                                           // 7

@@ -200,6 +200,10 @@ inline constexpr std::size_t kMaxOverrideValueBytes = std::size_t{64} << 10;
 /// files (opening a device can act on it). Never throws.
 std::optional<std::string> config_file_problem(const std::string& path);
 
+/// As config_file_problem() for a file of any size that is not read as a config (a plugin's
+/// shared library).
+std::optional<std::string> readable_file_problem(const std::string& path);
+
 /// A `--set key.path=value` override from the command line.
 struct ConfigOverride {
   std::string key_path;

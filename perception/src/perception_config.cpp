@@ -116,10 +116,12 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     }
   }
 
+  bool disparity_features_given = false;
   if (auto reader = root.optional_map("disparity")) {
     DisparityConfig& d = config.disparity;
     d.enabled = reader->boolean_or("enabled", true);
-    if (reader->has("features")) {
+    disparity_features_given = reader->has("features");
+    if (disparity_features_given) {
       d.features = reader->strings("features");
       if (d.features.empty()) reader->error("features", "expected at least one feature map");
       for (std::size_t i = 0; i < d.features.size(); ++i) {
@@ -140,7 +142,10 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     d.min_texture_rms =
         reader->number_or("min_texture_rms", d.min_texture_rms, config::Range::non_negative());
     reader->finish();
-  } else {
+  }
+  if (!disparity_features_given) {
+    // The estimator is built whether or not disparity is enabled, so its default maps must exist
+    // in this operator set even when a disparity section sets other keys only.
     for (const auto& name : config.disparity.features) {
       if (!contains(map_names, name)) {
         root.error("operators", "the default disparity feature " + in_quotes(name) +

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cambio/config/map_reader.hpp"
+#include "cambio/perception/sensory_servo.hpp"
 
 namespace cambio::perception {
 namespace {
@@ -77,6 +78,29 @@ TEST(PerceptionConfig, ReportsEveryMistakeWithPositionAndSuggestion) {
     EXPECT_NE(text.find("did you mean \"g2x@1.4\""), std::string::npos) << text;
     EXPECT_GE(error.issues().size(), 4u);
   }
+}
+
+
+// Found by fuzz_perception (tests/fuzz/regressions/fuzz_perception/): a disparity section that
+// set other keys let the default features through unchecked, and the SSM threw while building.
+TEST(PerceptionConfig, DefaultDisparityFeaturesMustExistWhateverTheDisparitySectionSets) {
+  for (const std::string disparity :
+       {"", "disparity: {search_range_px: 96}\n", "disparity: {enabled: false}\n"}) {
+    try {
+      from_text("operators: {sigmas_px: [2.7, 4.0]}\n" + disparity);
+      FAIL() << "expected a ConfigError for: " << disparity;
+    } catch (const config::ConfigError& error) {
+      const std::string text = all_messages(error);
+      EXPECT_NE(text.find("the default disparity feature \"g2x@1.4\""), std::string::npos)
+          << text;
+      EXPECT_NE(text.find("set disparity.features"), std::string::npos) << text;
+    }
+  }
+  // Naming features of the operator set is the way out, and what loads builds an SSM.
+  const SsmConfig c = from_text(
+      "operators: {sigmas_px: [2.7, 4.0]}\n"
+      "disparity: {search_range_px: 96, features: [g2x@2.7]}\n");
+  EXPECT_NO_THROW(SensoryServo(c, 320, 240));
 }
 
 }  // namespace

@@ -465,6 +465,7 @@ void MainJob::collect(MainJobResult& result) {
   result.stereo_pairs = camera_loop_->pairs_published();
   for (const auto& joint_loop : joint_loops_) {
     result.watchdog_cycles += joint_loop.loop->stale_cycles();
+    result.startup_hold_cycles += joint_loop.loop->awaiting_targets_cycles();
     result.fault_hold_cycles += joint_loop.loop->fault_hold_cycles();
     result.fault_recoveries += joint_loop.loop->fault_recoveries();
     control::JointStateFrame states;

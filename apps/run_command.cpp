@@ -56,6 +56,7 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
   json["stereo_pairs"] = result.stereo_pairs;
   json["mismatched_stereo_pairs"] = result.mismatched_stereo_pairs;
   json["joint_loop"] = {{"fault_recoveries", result.fault_recoveries},
+                        {"startup_hold_cycles", result.startup_hold_cycles},
                         {"watchdog_hold_cycles", result.watchdog_cycles},
                         {"fault_hold_cycles", result.fault_hold_cycles},
                         {"fault_latched_at_end", result.fault_latched_at_end}};
@@ -299,7 +300,8 @@ int run_run_command(std::span<const std::string> args) {
   std::cout << "camera frames grabbed: " << result.camera_frames << " (" << result.stereo_pairs
             << " stereo pairs, " << result.mismatched_stereo_pairs
             << " refused for mismatched stamps)"
-            << ", joint-loop watchdog holds: " << result.watchdog_cycles
+            << ", joint-loop holds: " << result.startup_hold_cycles
+            << " cycles before the first targets, watchdog " << result.watchdog_cycles
             << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles"
             << (result.fault_recoveries > 0
                     ? ", fault recoveries: " + std::to_string(result.fault_recoveries)

@@ -221,7 +221,10 @@ hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
                      targets_frame_.count == params_.target_count &&
                      static_cast<double>(tick.now_ns - targets_frame_.stamp_ns) * 1e-9 <=
                          params_.command_timeout_s;
-  if (!fresh && !holding) stale_cycles_.fetch_add(1, std::memory_order_relaxed);
+  if (!fresh && !holding) {
+    (targets_.version() > 0 ? stale_cycles_ : awaiting_targets_cycles_)
+        .fetch_add(1, std::memory_order_relaxed);
+  }
 
   for (std::size_t j = 0; j < static_cast<std::size_t>(joint_count_); ++j) {
     const hal::JointLimits& limits = limits_[j];

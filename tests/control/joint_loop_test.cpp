@@ -193,6 +193,19 @@ TEST(JointLoop, WatchdogHoldsPositionWhenTargetsGoStale) {
   EXPECT_EQ(f.loop.stale_cycles(), 149u);
 }
 
+TEST(JointLoop, CyclesBeforeTheFirstTargetsHoldButAreNoWatchdogEvent) {
+  Fixture f;
+  for (std::uint64_t k = 0; k < 3; ++k) f.tick(k);  // The controller has not run yet.
+  EXPECT_DOUBLE_EQ(f.group.position[0], 0.0);
+  EXPECT_EQ(f.loop.awaiting_targets_cycles(), 3u);
+  EXPECT_EQ(f.loop.stale_cycles(), 0u);
+  f.command(0.4, 0.0, 3'000'000);
+  for (std::uint64_t k = 3; k < 100; ++k) f.tick(k);
+  // Fresh from 3 ms to 53 ms (51 cycles), then 46 watchdog cycles; start-up stays at 3.
+  EXPECT_EQ(f.loop.awaiting_targets_cycles(), 3u);
+  EXPECT_EQ(f.loop.stale_cycles(), 46u);
+}
+
 TEST(JointLoop, ANonFiniteTargetHoldsTheJointStill) {
   Fixture f;
   f.command(0.1, 0.0, 0);

@@ -74,8 +74,14 @@ class JointLoop final : public hal::Loop {
   void request(hal::DriveRequest request) noexcept;
 
   int joint_count() const { return joint_count_; }
-  /// Cycles in which the watchdog held the joints because targets were stale.
+  /// Cycles in which the watchdog held the joints because targets went stale (or came malformed)
+  /// after the control loop had sent some.
   std::uint64_t stale_cycles() const { return stale_cycles_.load(std::memory_order_relaxed); }
+  /// Cycles held at start-up, before the control loop sent its first targets: the joint loop
+  /// publishes the states the controller reads, so at least its first cycle comes before them.
+  std::uint64_t awaiting_targets_cycles() const {
+    return awaiting_targets_cycles_.load(std::memory_order_relaxed);
+  }
   /// Fault resets the loop asked by itself (JointLoopParams::max_fault_recoveries).
   std::uint64_t fault_recoveries() const {
     return fault_recoveries_.load(std::memory_order_relaxed);
@@ -115,6 +121,7 @@ class JointLoop final : public hal::Loop {
   bool reset_requested_ = false;     // Clear the latches once the drives report no fault.
   bool enable_after_reset_ = false;  // Then ask them to enable.
   std::atomic<std::uint64_t> stale_cycles_{0};
+  std::atomic<std::uint64_t> awaiting_targets_cycles_{0};
   std::atomic<std::uint64_t> fault_hold_cycles_{0};
   std::atomic<std::uint64_t> fault_recoveries_{0};
   std::int64_t fault_latched_since_ns_ = -1;  // When the current latch began; -1: none.

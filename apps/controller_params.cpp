@@ -99,12 +99,10 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
 }
 
 control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
-                                         std::array<std::string, 2> groups,
-                                         const control::FingerGeometry& fingers) {
+                                         std::array<std::string, 2> groups) {
   const config::ArmTaskConfig& arm = experiment.arm;
   control::ArmReachParams params;
   params.groups = std::move(groups);
-  params.fingers = fingers;
   params.gain_per_s = arm.gain_per_s;
   params.max_speed_m_s = arm.max_speed_m_s;
   params.max_acceleration_m_s2 = arm.max_acceleration_m_s2;

@@ -30,10 +30,9 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
                                          const hal::HardwareInfo& hardware);
 
 /// The arm loop of a `task: gaze` experiment on a rig with arms: its `arm:` settings, the arms'
-/// groups ([0] left, [1] right; "" for none) and the hand's fingers.
+/// groups ([0] left, [1] right; "" for none). The fingers come with each arm's chain.
 control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
-                                         std::array<std::string, 2> groups,
-                                         const control::FingerGeometry& fingers);
+                                         std::array<std::string, 2> groups);
 
 /// The config's name for a gaze action as the gaze loop's (the same enumerators).
 control::GazeAction gaze_action(config::GazeAction action);

@@ -120,9 +120,8 @@ void MainJob::make_touch_sensors() {
 void MainJob::build_arm_loop(const control::JointTargetFrame& pose,
                              std::vector<control::BelievedJoints::Source> sources) {
   if (arm_groups_[0].empty() && arm_groups_[1].empty()) return;
-  const control::FingerGeometry fingers{sim::kFingerTipX_m, sim::kFingerTipY_m};
   arm_loop_ = std::make_unique<control::ArmReachLoop>(
-      hardware_, arm_reach_params(experiment_, arm_groups_, fingers), pose,
+      hardware_, arm_reach_params(experiment_, arm_groups_), pose,
       control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
       &gaze_loop_->status(), arm_commands_,
       std::array<hal::TouchSensor*, 2>{touch_sensors_[0].get(), touch_sensors_[1].get()});
@@ -337,7 +336,6 @@ void MainJob::build_trace() {
         sources.arm_chains[static_cast<std::size_t>(side)] = *chain;
       }
     }
-    sources.fingers = {sim::kFingerTipX_m, sim::kFingerTipY_m};
   }
   // At the control rate, but as evaluation: never at a real-time priority or pinned beside the
   // loops it watches (its ground-truth queries and key-frame renders take milliseconds).

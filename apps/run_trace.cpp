@@ -355,8 +355,8 @@ void TraceRecorder::record_arms(TraceRow& row, const sim::RayHit& dominant_hit) 
   row.gripper_W_m = arm.gripper_W_m;
   row.gripper_distance_m = arm.distance_to_target_m;
   const double opening_rad = truth.joint_position_rad(chain.names[4]);
-  const Eigen::Vector3d tip_W = truth.X_WL(chain.names[3]) *
-                                Eigen::Vector3d(chain.hand_m(sources_.fingers, opening_rad), 0, 0);
+  const Eigen::Vector3d tip_W =
+      truth.X_WL(chain.names[3]) * Eigen::Vector3d(chain.hand_m(opening_rad), 0, 0);
   row.true_gripper_W_m = to_array(tip_W);
   const bool named = !sources_.target_object.empty();
   if (named) row.true_gripper_surface_m = truth.distance_to_object_m(sources_.target_object, tip_W);

@@ -171,11 +171,10 @@ struct TraceSources {
   std::vector<double> key_frame_times_s;
   /// Scene objects whose visits by the dominant eye's axis are recorded (may be empty).
   std::vector<std::string> visit_objects;
-  /// The arms' status (null: no arm loop), their chains ([0] left, [1] right) and fingers, to
+  /// The arms' status (null: no arm loop) and their chains ([0] left, [1] right) with fingers, to
   /// place the true fingertips.
   const hal::SeqlockChannel<control::ArmStatus>* arms = nullptr;
   std::array<std::optional<control::ArmChain>, 2> arm_chains;
-  control::FingerGeometry fingers;
 };
 
 /// Records a Trace at the control rate. Evaluation, not control: update() reads the ground

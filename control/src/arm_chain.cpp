@@ -20,7 +20,7 @@ std::string describe(const Eigen::Vector3d& v) {
 
 }  // namespace
 
-double ArmChain::hand_m(const FingerGeometry& fingers, double opening_rad) const {
+double ArmChain::hand_m(double opening_rad) const {
   // One fingertip at R_z(opening) (tip_x, tip_y) from the gripper's axis; the mirrored one at
   // R_z(-opening) (tip_x, -tip_y): their midpoint lies on the hand's x axis.
   return wrist_to_gripper_m + fingers.tip_x_m * std::cos(opening_rad) -
@@ -88,6 +88,11 @@ ArmChain find_arm_chain(const hal::HardwareInfo& hardware, const std::string& gr
   chain.upper_arm_m = offsets[2].x();
   chain.forearm_m = offsets[3].x();
   chain.wrist_to_gripper_m = offsets[4].x();
+  for (const auto& sensor : hardware.touch_sensors) {
+    if (sensor.parent != chain.names[4]) continue;
+    chain.fingers = {sensor.fingertip_x_m, sensor.fingertip_y_m};
+    chain.has_touch_sensor = true;
+  }
   return chain;
 }
 

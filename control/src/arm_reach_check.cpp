@@ -17,12 +17,12 @@ void say(std::array<char, 160>& message, const char* format, Args... args) noexc
 
 }  // namespace
 
-Eigen::Vector3d fingertips_W(const ArmChain& arm, const FingerGeometry& fingers, double opening_rad,
+Eigen::Vector3d fingertips_W(const ArmChain& arm, double opening_rad,
                              const std::array<double, 4>& q_rad) noexcept {
   const double a1 = q_rad[1];
   const double a2 = a1 + q_rad[2];
   const double a3 = a2 + q_rad[3];
-  const double hand_m = arm.hand_m(fingers, opening_rad);
+  const double hand_m = arm.hand_m(opening_rad);
   // In the arm's plane: r outward, z up; pitch angles point below the horizontal.
   const double r =
       arm.upper_arm_m * std::cos(a1) + arm.forearm_m * std::cos(a2) + hand_m * std::cos(a3);
@@ -31,12 +31,12 @@ Eigen::Vector3d fingertips_W(const ArmChain& arm, const FingerGeometry& fingers,
   return arm.shoulder_W + Eigen::Vector3d(r * std::cos(q_rad[0]), r * std::sin(q_rad[0]), z);
 }
 
-ReachCheck check_reach(const ArmChain& arm, const FingerGeometry& fingers, double opening_rad,
-                       const Eigen::Vector3d& target_W, const HandPitchRange& pitches) noexcept {
+ReachCheck check_reach(const ArmChain& arm, double opening_rad, const Eigen::Vector3d& target_W,
+                       const HandPitchRange& pitches) noexcept {
   ReachCheck result;
   const Eigen::Vector3d d = target_W - arm.shoulder_W;
   const double distance_m = d.norm();
-  const double hand_m = arm.hand_m(fingers, opening_rad);
+  const double hand_m = arm.hand_m(opening_rad);
   const double reach_m = arm.upper_arm_m + arm.forearm_m + hand_m;
   if (!target_W.allFinite()) {
     say(result.message, "out of reach: the target is not a finite point");

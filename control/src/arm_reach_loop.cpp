@@ -52,6 +52,12 @@ ArmReachLoop::ArmReachLoop(const hal::HardwareInfo& hardware, const ArmReachPara
     Arm& arm = arms_[side];
     arm.present = true;
     arm.chain = find_arm_chain(hardware, params.groups[side]);
+    if (!arm.chain.has_touch_sensor) {
+      throw std::invalid_argument("arm '" + params.groups[side] +
+                                  "': no touch sensor on its gripper '" + arm.chain.names[4] +
+                                  "': the reach stops on it and reaches with its fingertips "
+                                  "(touch_sensors.<name>: {parent, fingertip_xy_m})");
+    }
     arm.touch = touch[side];
     arm.wrist_frame = Kinematics::link_frame(arm.chain.joints[3]);
     arm_rig_indices_.insert(arm_rig_indices_.end(), arm.chain.rig.begin(), arm.chain.rig.end());
@@ -241,8 +247,7 @@ bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
                                std::int64_t now_ns) noexcept {
   Arm& arm = arms_[at(side)];
   const double opening = q_command_tree_[at(arm.chain.joints[4])];
-  const ReachCheck check =
-      check_reach(arm.chain, params_.fingers, opening, target_W, params_.hand_pitches);
+  const ReachCheck check = check_reach(arm.chain, opening, target_W, params_.hand_pitches);
   if (!check.reachable) {
     refuse(side, check.message.data());
     return false;
@@ -261,8 +266,7 @@ bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
     const Eigen::Vector3d approach = target_W - params_.approach_m * in;
     // Only where the arm can go, and only if the hand is not already past it.
     if ((tip - target_W).dot(in) < -params_.approach_m &&
-        check_reach(arm.chain, params_.fingers, opening, approach, params_.hand_pitches)
-            .reachable) {
+        check_reach(arm.chain, opening, approach, params_.hand_pitches).reachable) {
       arm.approach_W = approach;
       arm.approaching = true;
     }
@@ -273,8 +277,7 @@ bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
   if (params_.probe_depth_m > 0.0 && in.norm() > 0.0) {
     // The probe only where the arm can follow it; otherwise the reach ends at the target.
     const Eigen::Vector3d aim = target_W + params_.probe_depth_m * in;
-    const ReachCheck aim_check =
-        check_reach(arm.chain, params_.fingers, opening, aim, params_.hand_pitches);
+    const ReachCheck aim_check = check_reach(arm.chain, opening, aim, params_.hand_pitches);
     if (aim_check.reachable) {
       arm.aim_W = aim;
       arm.q_goal_rad = aim_check.q_rad;
@@ -401,8 +404,7 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
 
 Eigen::Vector3d ArmReachLoop::tip_W(const Kinematics& kinematics, const Arm& arm) const noexcept {
   const double opening = kinematics.q_rad()[at(arm.chain.joints[4])];
-  return kinematics.X_WF(arm.wrist_frame) *
-         Eigen::Vector3d(arm.chain.hand_m(params_.fingers, opening), 0.0, 0.0);
+  return kinematics.X_WF(arm.wrist_frame) * Eigen::Vector3d(arm.chain.hand_m(opening), 0.0, 0.0);
 }
 
 }  // namespace cambio::control

@@ -735,7 +735,25 @@ RigConfig read_rig(MapReader root, const std::string& file) {
 
   std::vector<MapReader> touch_readers;
   for (auto& [name, reader] : root.named_maps("touch_sensors")) {
-    rig.touch_sensors.push_back(TouchSensorConfig{name, reader.text("parent")});
+    TouchSensorConfig sensor{name, reader.text("parent")};
+    if (reader.has("fingertip_xy_m")) {
+      const CleanRead tip_read(reader);
+      // Along the finger: a hand's size; off the midline: within half a gripper's span.
+      const auto tip = reader.numbers("fingertip_xy_m", Range::closed(0.0, 1.0));
+      if (tip_read.clean() && tip.size() != 2) {
+        reader.error("fingertip_xy_m",
+                     "expected a list of 2 numbers [x, y] in m, found a list of " +
+                         std::to_string(tip.size()));
+      } else if (tip_read.clean() && (tip[0] < 0.01 || tip[1] > 0.2)) {
+        reader.error("fingertip_xy_m",
+                     "expected x in [0.01, 1] m (along the finger) and y in "
+                     "[0, 0.2] m (off the gripper's midline)");
+      } else if (tip_read.clean()) {
+        sensor.fingertip_x_m = tip[0];
+        sensor.fingertip_y_m = tip[1];
+      }
+    }
+    rig.touch_sensors.push_back(std::move(sensor));
     reader.finish();
     touch_readers.push_back(reader);
   }

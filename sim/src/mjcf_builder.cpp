@@ -131,7 +131,7 @@ class Builder {
       }
       children_[joint.parent].push_back(&joint);
     }
-    for (const auto& sensor : rig_.touch_sensors) hands_.insert(sensor.parent);
+    for (const auto& sensor : rig_.touch_sensors) hands_.emplace(sensor.parent, &sensor);
   }
 
   // MuJoCo 2.2 sizes mjData's stack as 5 (njmax + nv)^2 + O(n) numbers (MuJoCo's own
@@ -399,7 +399,7 @@ class Builder {
       mimic.min_position_rad = -joint.max_position_rad;
       mimic.max_position_rad = -joint.min_position_rad;
       write_joint(xml, mimic, joint.name + kMimicSuffix, indent + "  ");
-      write_finger(xml, -1.0, indent + "  ");
+      write_finger(xml, *hands_.at(joint.name), -1.0, indent + "  ");
       xml << indent << "</body>\n";
       mimics_.push_back(joint.name);
     }
@@ -414,11 +414,17 @@ class Builder {
 
   bool is_leaf(const std::string& link) const { return children_.count(link) == 0; }
 
-  void write_finger(std::ostringstream& xml, double side, const std::string& indent) {
-    xml << indent << "<geom type=\"box\" pos=\"0.04 " << num(side * 0.014)
-        << " 0\" size=\"0.04 0.005 0.014\" material=\"robot_joint\"/>\n";
-    xml << indent << "<geom type=\"box\" pos=\"" << num(kFingerTipX_m - kFingerPadHalf_m) << " "
-        << num(side * kFingerTipY_m) << " 0\" size=\"" << num(kFingerPadHalf_m)
+  /// One finger: a beam from the gripper's axis to just short of the tip, and a pad whose front
+  /// face's middle is the rig's fingertip (touch_sensors.<name>.fingertip_xy_m).
+  void write_finger(std::ostringstream& xml, const config::TouchSensorConfig& hand, double side,
+                    const std::string& indent) {
+    const double beam_half_m =
+        0.5 * (hand.fingertip_x_m - 2.0 * kFingerPadHalf_m + kFingerBeamOffset_m);
+    xml << indent << "<geom type=\"box\" pos=\"" << num(beam_half_m) << " "
+        << num(side * (hand.fingertip_y_m + kFingerBeamOffset_m)) << " 0\" size=\""
+        << num(beam_half_m) << " 0.005 0.014\" material=\"robot_joint\"/>\n";
+    xml << indent << "<geom type=\"box\" pos=\"" << num(hand.fingertip_x_m - kFingerPadHalf_m)
+        << " " << num(side * hand.fingertip_y_m) << " 0\" size=\"" << num(kFingerPadHalf_m)
         << " 0.007 0.014\" material=\"robot_joint\"/>\n";
   }
 
@@ -460,7 +466,7 @@ class Builder {
       drew = true;
     }
     if (hands_.count(joint.name) != 0 && is_leaf(joint.name)) {
-      write_finger(xml, 1.0, indent);
+      write_finger(xml, *hands_.at(joint.name), 1.0, indent);
       drew = true;
     }
     if (!drew) {
@@ -566,7 +572,7 @@ class Builder {
   const SceneConfig& scene_;
   const MjcfOptions& options_;
   std::map<std::string, std::vector<const JointConfig*>> children_;
-  std::set<std::string> hands_;
+  std::map<std::string, const config::TouchSensorConfig*> hands_;  // By parent (gripper) joint.
   std::vector<std::string> mimics_;
   GeneratedModel model_;
 };

@@ -20,7 +20,7 @@ namespace cambio::control {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-// The sim's generated fingers (sim::kFingerTipX_m, kFingerTipY_m); control/ does not see sim/.
+// The shipped rig's fingertips (touch_sensors.*.fingertip_xy_m), which the chain must carry.
 constexpr FingerGeometry kFingers{0.082, 0.008};
 
 hal::HardwareInfo shipped_rig() {
@@ -51,9 +51,12 @@ TEST(ArmChain, FoundOnTheShippedRigWithItsLengths) {
   EXPECT_EQ(right.rig[0], 10);
   EXPECT_EQ(right.rig[4], 14);
   EXPECT_NEAR(right.limits[2].max_position_rad, 140.0 * kDeg, 1e-12);
+  EXPECT_TRUE(right.has_touch_sensor);
+  EXPECT_DOUBLE_EQ(right.fingers.tip_x_m, kFingers.tip_x_m);
+  EXPECT_DOUBLE_EQ(right.fingers.tip_y_m, kFingers.tip_y_m);
   // Closed fingers reach the pads' front faces; open ones come back by cos and the pad's offset.
-  EXPECT_DOUBLE_EQ(right.hand_m(kFingers, 0.0), 0.08 + 0.082);
-  EXPECT_NEAR(right.hand_m(kFingers, 20.0 * kDeg),
+  EXPECT_DOUBLE_EQ(right.hand_m(0.0), 0.08 + 0.082);
+  EXPECT_NEAR(right.hand_m(20.0 * kDeg),
               0.08 + 0.082 * std::cos(20.0 * kDeg) - 0.008 * std::sin(20.0 * kDeg), 1e-15);
   const ArmChain left = find_arm_chain(hardware, "left_arm");
   EXPECT_TRUE(left.shoulder_W.isApprox(Eigen::Vector3d(0.0, 0.22, 1.05)));
@@ -94,7 +97,7 @@ TEST(ArmReachCheck, FingertipsAgreeWithTheGeneralKinematics) {
           X_WW * (Eigen::Translation3d(arm.wrist_to_gripper_m, 0, 0) *
                   Eigen::AngleAxisd(-opening, Eigen::Vector3d::UnitZ()) *
                   Eigen::Vector3d(kFingers.tip_x_m, -kFingers.tip_y_m, 0));
-      EXPECT_LT((fingertips_W(arm, kFingers, opening, q) - 0.5 * (tip_a + mirrored)).norm(), 1e-12);
+      EXPECT_LT((fingertips_W(arm, opening, q) - 0.5 * (tip_a + mirrored)).norm(), 1e-12);
     }
   }
 }
@@ -112,8 +115,8 @@ TEST(ArmReachCheck, SolvesEveryPoseItsJointsCanReachWithALevelishHand) {
       // Poses the check looks among: a hand pitch within range, on its grid of steps.
       if (std::abs(pitch) > pitches.max_deviation_rad) continue;
       const double opening = 20.0 * kDeg;
-      const Eigen::Vector3d target = fingertips_W(arm, kFingers, opening, q);
-      const ReachCheck check = check_reach(arm, kFingers, opening, target, pitches);
+      const Eigen::Vector3d target = fingertips_W(arm, opening, q);
+      const ReachCheck check = check_reach(arm, opening, target, pitches);
       // The check's grid of pitches may miss a pose next to a limit; all the rest must be found.
       if (!check.reachable) {
         bool near_limit = false;
@@ -125,7 +128,7 @@ TEST(ArmReachCheck, SolvesEveryPoseItsJointsCanReachWithALevelishHand) {
         continue;
       }
       ++tried;
-      EXPECT_LT((fingertips_W(arm, kFingers, opening, check.q_rad) - target).norm(), 1e-9);
+      EXPECT_LT((fingertips_W(arm, opening, check.q_rad) - target).norm(), 1e-9);
       for (std::size_t k = 0; k < 4; ++k) {
         EXPECT_GE(check.q_rad[k], arm.limits[k].min_position_rad);
         EXPECT_LE(check.q_rad[k], arm.limits[k].max_position_rad);
@@ -138,18 +141,17 @@ TEST(ArmReachCheck, SolvesEveryPoseItsJointsCanReachWithALevelishHand) {
 
 TEST(ArmReachCheck, RefusesBeyondTheArmsLengthSayingBothDistances) {
   const ArmChain arm = find_arm_chain(shipped_rig(), "right_arm");
-  const double reach = arm.reach_m(kFingers, 0.0);
+  const double reach = arm.reach_m(0.0);
   EXPECT_NEAR(reach, 0.30 + 0.25 + 0.162, 1e-12);
   const ReachCheck check =
-      check_reach(arm, kFingers, 0.0, arm.shoulder_W + Eigen::Vector3d(0.9, 0.0, 0.0), {});
+      check_reach(arm, 0.0, arm.shoulder_W + Eigen::Vector3d(0.9, 0.0, 0.0), {});
   EXPECT_FALSE(check.reachable);
   EXPECT_EQ(check.why(),
             "out of reach: the target is 0.900 m from right_arm's shoulder, the arm reaches "
             "0.712 m");
   // Just within: reachable (straight out, level).
-  EXPECT_TRUE(
-      check_reach(arm, kFingers, 0.0, arm.shoulder_W + Eigen::Vector3d(reach - 1e-6, 0.0, 0.0), {})
-          .reachable);
+  EXPECT_TRUE(check_reach(arm, 0.0, arm.shoulder_W + Eigen::Vector3d(reach - 1e-6, 0.0, 0.0), {})
+                  .reachable);
 }
 
 TEST(ArmReachCheck, RefusesAtTheShoulderByTheJointThatCannotFold) {
@@ -157,7 +159,7 @@ TEST(ArmReachCheck, RefusesAtTheShoulderByTheJointThatCannotFold) {
   // the shoulder pitch beyond +90 deg. Its angle is given in (-180, 180] deg, as its limits.
   const ArmChain arm = find_arm_chain(shipped_rig(), "left_arm");
   const ReachCheck check =
-      check_reach(arm, kFingers, 0.0, arm.shoulder_W + Eigen::Vector3d(0.03, 0.0, 0.0), {});
+      check_reach(arm, 0.0, arm.shoulder_W + Eigen::Vector3d(0.03, 0.0, 0.0), {});
   EXPECT_FALSE(check.reachable);
   EXPECT_NE(check.why().find("beyond a joint limit: left_shoulder_pitch would need 124."),
             std::string::npos)
@@ -169,14 +171,14 @@ TEST(ArmReachCheck, NamesTheJointBeyondItsLimit) {
   // Across to the right: the left shoulder's yaw would need -80 deg, its limit is -60.
   const Eigen::Vector3d across =
       left.shoulder_W + 0.5 * Eigen::Vector3d(std::cos(-80.0 * kDeg), std::sin(-80.0 * kDeg), 0);
-  const ReachCheck yaw = check_reach(left, kFingers, 0.0, across, {});
+  const ReachCheck yaw = check_reach(left, 0.0, across, {});
   EXPECT_FALSE(yaw.reachable);
   EXPECT_EQ(yaw.why(),
             "beyond a joint limit: left_shoulder_yaw would need -80.0 deg, its limits are "
             "[-60.0, 90.0] deg");
   // Straight up from the shoulder, close: the shoulder pitch would have to pass -90 deg.
   const ReachCheck up =
-      check_reach(left, kFingers, 0.0, left.shoulder_W + Eigen::Vector3d(0.05, 0.0, 0.6), {});
+      check_reach(left, 0.0, left.shoulder_W + Eigen::Vector3d(0.05, 0.0, 0.6), {});
   EXPECT_FALSE(up.reachable);
   EXPECT_NE(up.why().find("beyond a joint limit: left_shoulder_pitch would need"),
             std::string::npos)

@@ -26,7 +26,6 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kPeriodS = 0.005;
-constexpr FingerGeometry kFingers{0.082, 0.008};
 
 class FakeTouch final : public hal::TouchSensor {
  public:
@@ -44,9 +43,11 @@ class FakeTouch final : public hal::TouchSensor {
 
 class ArmHarness {
  public:
-  explicit ArmHarness(double approach_m = 0.0, bool with_gaze = true)
+  explicit ArmHarness(double approach_m = 0.0, bool with_gaze = true,
+                      bool with_touch_sensors = true)
       : hardware_(config::hardware_description(
             config::load_rig(config::find_shipped_config("rigs/cambio.yaml")))) {
+    if (!with_touch_sensors) hardware_.touch_sensors.clear();
     for (const auto& group : hardware_.groups) {
       for (const auto& joint : group.joints) rig_order_.push_back(joint);
     }
@@ -66,7 +67,6 @@ class ArmHarness {
     }
     publish_states();
     params_.groups = {"left_arm", "right_arm"};
-    params_.fingers = kFingers;
     params_.gain_per_s = 4.0;
     params_.max_speed_m_s = 0.6;
     params_.max_acceleration_m_s2 = 3.0;
@@ -140,7 +140,7 @@ class ArmHarness {
   double opening(int side) const { return q_rig_[static_cast<std::size_t>(arm(side).rig[4])]; }
   /// The fingertips' midpoint at the commanded joints, in closed form.
   Eigen::Vector3d tip(int side) const {
-    return fingertips_W(arm(side), kFingers, opening(side), q_arm(side));
+    return fingertips_W(arm(side), opening(side), q_arm(side));
   }
   FakeTouch& touch(int side) { return touch_[static_cast<std::size_t>(side)]; }
   std::int64_t now_ns() const { return now_ns_; }
@@ -291,6 +291,19 @@ TEST(ArmReachLoop, ReachesWhatTheHeadFixatesWithTheNearerArm) {
   }
 }
 
+TEST(ArmReachLoop, AnArmWithoutATouchSensorOnItsGripperIsRefusedAtConstruction) {
+  try {
+    ArmHarness arm(0.0, true, false);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("arm 'left_arm': no touch sensor on its gripper "
+                        "'left_gripper'"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(ArmReachLoop, RefusesWithoutAFixation) {
   ArmHarness arm;
   arm.fixation(false);
@@ -339,7 +352,7 @@ TEST(ArmReachLoop, NearestFallsBackToTheOtherArmWithoutARefusal) {
   // right arm can take it: it does, and the nearer arm's refusal is not reported.
   const Eigen::Vector3d target(0.2, 0.04, 1.2);
   ASSERT_LT((target - arm.arm(0).shoulder_W).norm(), (target - arm.arm(1).shoulder_W).norm());
-  ASSERT_FALSE(check_reach(arm.arm(0), kFingers, 20.0 * kDeg, target, {}).reachable);
+  ASSERT_FALSE(check_reach(arm.arm(0), 20.0 * kDeg, target, {}).reachable);
   arm.command(ArmAction::kReach, ArmSide::kNearest, ReachTargetKind::kPoint, target);
   arm.step();
   const ArmStatus status = arm.status();

@@ -318,6 +318,42 @@ TEST(BadRig, StereoCameraUnknown) {
                 "\"left_ey\"; did you mean \"left_eye\"?");
 }
 
+TEST(ShippedRigs, TouchSensorsCarryTheirFingertips) {
+  const RigConfig rig = load_rig(test::shipped_rig_path("cambio.yaml"));
+  ASSERT_EQ(rig.touch_sensors.size(), 2u);
+  EXPECT_EQ(rig.touch_sensors[1].parent, "right_gripper");
+  EXPECT_DOUBLE_EQ(rig.touch_sensors[1].fingertip_x_m, 0.082);
+  EXPECT_DOUBLE_EQ(rig.touch_sensors[1].fingertip_y_m, 0.008);
+}
+
+TEST(BadRig, FingertipsThatAreNoPointOnAFingerAreRefused) {
+  const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
+  const std::string shipped =
+      "  right_hand: {parent: right_gripper, fingertip_xy_m: [0.082, 0.008]}";
+  const int line = line_of(lines, shipped);
+  ASSERT_GT(line, 0);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"[0.082, 0.008, 0]", "expected a list of 2 numbers [x, y] in m, found a list of 3"},
+      {"[0.005, 0.008]", "expected x in [0.01, 1] m"},
+      {"[0.082, 0.3]", "y in [0, 0.2] m"},
+      {"[0.082, -0.01]", "expected a number in [0, 1], found -0.01"},
+  };
+  for (const auto& [value, text] : cases) {
+    const auto issues = issues_of(test::patched(
+        lines, line, "  right_hand: {parent: right_gripper, fingertip_xy_m: " + value + "}"));
+    ASSERT_EQ(issues.size(), 1u) << value << "\n" << describe(issues);
+    EXPECT_EQ(issues[0].line, line);
+    // The list, or the element at fault.
+    EXPECT_EQ(issues[0].key_path.rfind("touch_sensors.right_hand.fingertip_xy_m", 0), 0u)
+        << issues[0].to_string();
+    EXPECT_NE(issues[0].message.find(text), std::string::npos) << issues[0].to_string();
+  }
+  // Without the key a touch sensor takes the default hand's fingertips.
+  const RigConfig rig = load_rig_from_string(
+      test::patched(lines, line, "  right_hand: {parent: right_gripper}"), "test.yaml");
+  EXPECT_DOUBLE_EQ(rig.touch_sensors[1].fingertip_x_m, TouchSensorConfig{}.fingertip_x_m);
+}
+
 TEST(BadRig, StereoBaselineDisagreesWithTheEyeJoints) {
   const auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
   const int line = line_of(lines, "  baseline_m: 0.12");

@@ -50,6 +50,11 @@ void check_rig(const config::RigConfig& rig) {
     require(joint.servo.dead_time_s >= 0.0 && joint.servo.dead_time_s <= config::kMaxDeadTime_s,
             "kMaxDeadTime_s");
   }
+  for (const auto& sensor : rig.touch_sensors) {
+    require(sensor.fingertip_x_m >= 0.01 && sensor.fingertip_x_m <= 1.0 &&
+                sensor.fingertip_y_m >= 0.0 && sensor.fingertip_y_m <= 0.2,
+            "fingertip_xy_m");
+  }
   for (const auto& loop : rig.loops) {
     require(loop.rate_hz >= config::kMinRate_hz && loop.rate_hz <= config::kMaxRate_hz,
             "loop rate");

@@ -15,8 +15,9 @@ namespace cambio::sim {
 namespace {
 
 // The right arm at zero points forward from its shoulder at (0, -0.22, 1.05): upper arm 0.30,
-// forearm 0.25, wrist to gripper 0.08, then the closed fingertips.
-constexpr double kFingertips_x_m = 0.30 + 0.25 + 0.08 + kFingerTipX_m;
+// forearm 0.25, wrist to gripper 0.08, then the closed fingertips (the shipped rig's
+// touch_sensors.right_hand.fingertip_xy_m).
+constexpr double kFingertips_x_m = 0.30 + 0.25 + 0.08 + 0.082;
 constexpr double kWallFace_x_m = 0.80;
 
 config::SceneConfig distance_scene() {
@@ -66,6 +67,18 @@ TEST_F(GroundTruthDistanceTest, TheHandsGapToAWallIsWhereItsFingertipsEnd) {
   EXPECT_GT(truth_.end_effector_gap_m("left_gripper", "wall"), 0.25);
   EXPECT_THROW(truth_.end_effector_gap_m("right_gripper", "nothing"), std::out_of_range);
   EXPECT_THROW(truth_.end_effector_gap_m("no_link", "wall"), std::out_of_range);
+}
+
+TEST(GroundTruthDistance, TheSimBuildsTheFingersTheRigDescribes) {
+  // Fingers 2 cm longer (touch_sensors.right_hand.fingertip_xy_m): the hand ends 2 cm nearer
+  // the wall.
+  config::RigConfig rig = testing::load_shipped_rig();
+  ASSERT_EQ(rig.touch_sensors[1].parent, "right_gripper");
+  rig.touch_sensors[1].fingertip_x_m += 0.02;
+  hal::ManualClock clock;
+  const auto sim = testing::make_sim(rig, distance_scene(), clock);
+  EXPECT_NEAR(sim->ground_truth().end_effector_gap_m("right_gripper", "wall"),
+              kWallFace_x_m - kFingertips_x_m - 0.02, 1e-9);
 }
 
 }  // namespace

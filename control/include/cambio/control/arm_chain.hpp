@@ -11,8 +11,8 @@ namespace cambio::control {
 
 /// The fingers' geometry, from the gripper joint's origin in its link frame (x along the
 /// fingers, at zero opening): where the middle of one fingertip's front face is. The other
-/// finger mirrors it (the sim's mimic finger). The rig file has no key for it: the application
-/// passes the sim's (sim::kFingerTip_m) or a real hand's.
+/// finger mirrors it (the sim's mimic finger). From the rig's touch sensor on the gripper
+/// (touch_sensors.<name>.fingertip_xy_m), which the sim also builds its fingers from.
 struct FingerGeometry {
   double tip_x_m = 0.0;  ///< Along the finger.
   double tip_y_m = 0.0;  ///< Off the gripper's midline, at zero opening.
@@ -38,14 +38,16 @@ struct ArmChain {
   double forearm_m = 0.0;                                ///< Elbow to wrist.
   double wrist_to_gripper_m = 0.0;                       ///< Wrist to the gripper's axis.
   std::array<hal::JointLimits, 5> limits{};
+  /// The fingertips of the touch sensor on the gripper; has_touch_sensor false (and the tips at
+  /// the gripper's axis) when no touch sensor names the gripper as its parent.
+  FingerGeometry fingers;
+  bool has_touch_sensor = false;
 
   /// Wrist to the fingertips' midpoint along the hand at gripper opening `opening_rad`: the
   /// fingertips turn about the gripper's axis, so they come back as the gripper opens.
-  double hand_m(const FingerGeometry& fingers, double opening_rad) const;
+  double hand_m(double opening_rad) const;
   /// The furthest the fingertips reach from the shoulder (arm and hand straight).
-  double reach_m(const FingerGeometry& fingers, double opening_rad) const {
-    return upper_arm_m + forearm_m + hand_m(fingers, opening_rad);
-  }
+  double reach_m(double opening_rad) const { return upper_arm_m + forearm_m + hand_m(opening_rad); }
 };
 
 /// The arm of rig group `group_name`. `rig_order` is the rig's joints in rig order (the groups'

@@ -39,13 +39,13 @@ struct ReachCheck {
 ///  - "beyond a joint limit": the solution nearest the preferred pitch needs a joint beyond its
 ///    limits (the joint, the angle and the limits given).
 /// Real-time safe: no allocation (the message is formatted into a fixed buffer).
-ReachCheck check_reach(const ArmChain& arm, const FingerGeometry& fingers, double opening_rad,
-                       const Eigen::Vector3d& target_W, const HandPitchRange& pitches) noexcept;
+ReachCheck check_reach(const ArmChain& arm, double opening_rad, const Eigen::Vector3d& target_W,
+                       const HandPitchRange& pitches) noexcept;
 
 /// The fingertips' midpoint for arm joints `q_rad` (yaw, pitch, elbow, wrist) at gripper
 /// opening `opening_rad`, in the base frame: ArmChain's forward kinematics in closed form (the
 /// oracle the tests hold the general Kinematics against, and check_reach's own check).
-Eigen::Vector3d fingertips_W(const ArmChain& arm, const FingerGeometry& fingers, double opening_rad,
+Eigen::Vector3d fingertips_W(const ArmChain& arm, double opening_rad,
                              const std::array<double, 4>& q_rad) noexcept;
 
 }  // namespace cambio::control

@@ -29,7 +29,6 @@ class ArmReachServoVisp;
 struct ArmReachParams {
   /// The arms' rig groups, [0] left, [1] right; "" for a side the rig does not have.
   std::array<std::string, 2> groups;
-  FingerGeometry fingers;
   double gain_per_s = 0.0;     ///< The servo's lambda: the fingertips' speed is gain x distance.
   double max_speed_m_s = 0.0;  ///< Cap on the fingertips' speed.
   /// The speed cap grows from zero at this rate after a reach starts (m/s^2), so the joints

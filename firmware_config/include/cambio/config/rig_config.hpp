@@ -130,6 +130,11 @@ struct StereoConfig {
 struct TouchSensorConfig {
   std::string name;
   std::string parent;  ///< The link (joint name) whose geometry is the end effector.
+  /// The fingertips the hand reaches and touches with: the middle of one fingertip's front face
+  /// in the parent (gripper) link's frame at zero opening, x along the finger, y off the
+  /// gripper's midline; the other finger mirrors it to -y. The sim builds its fingers from it.
+  double fingertip_x_m = 0.082;
+  double fingertip_y_m = 0.008;
 };
 
 struct CanBusConfig {

@@ -51,6 +51,10 @@ struct TouchSensorInfo {
   std::string name;
   std::string backend;
   std::string parent;  ///< The link whose geometry is the end effector.
+  /// The middle of one fingertip's front face in the parent link's frame at zero opening (x along
+  /// the finger, y off the gripper's midline; the other finger mirrors it to -y), m.
+  double fingertip_x_m = 0.0;
+  double fingertip_y_m = 0.0;
 };
 
 struct CanBusInfo {

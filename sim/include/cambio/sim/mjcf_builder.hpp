@@ -62,13 +62,10 @@ inline constexpr const char* kOverviewCameraName = "overview";
 /// Suffix of the generated second finger of a gripper (coupled to the gripper joint, mirrored).
 inline constexpr const char* kMimicSuffix = "_mimic";
 
-/// The generated fingers' tips (a touch sensor's gripper): the middle of a fingertip's front face
-/// in the gripper link's frame at zero opening, x along the finger, y off the gripper's midline
-/// (the mimic finger mirrors it to -y). What the arms reach with (control::FingerGeometry).
-inline constexpr double kFingerTipX_m = 0.082;
-inline constexpr double kFingerTipY_m = 0.008;
-/// Half the fingertip pad's thickness along the finger.
+/// The generated fingers (a touch sensor's gripper) end at the rig's fingertip_xy_m: half the
+/// fingertip pad's thickness along the finger, and the beam's offset outward of the pad.
 inline constexpr double kFingerPadHalf_m = 0.004;
+inline constexpr double kFingerBeamOffset_m = 0.006;
 
 /// True for joints that carry a camera (the neck and eye joints of the head): the sim drives
 /// them kinematically from the servo model. Every other joint is driven through physics.

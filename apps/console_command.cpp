@@ -14,6 +14,7 @@
 
 #include "argument_parser.hpp"
 #include "builtin_backends.hpp"
+#include "cambio/config/echoed_text.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "console_session.hpp"
@@ -224,7 +225,8 @@ int run_console_command(std::span<const std::string> args) {
     real_time_factor = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !std::isfinite(real_time_factor) ||
         real_time_factor < 0.0) {
-      std::cerr << "cambio console: --rtf: expected a factor >= 0, found \"" << text << "\"\n";
+      std::cerr << "cambio console: --rtf: expected a factor >= 0, found "
+                << config::in_quotes(text) << "\n";
       return kExitBadInput;
     }
   }

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "cambio/config/echoed_text.hpp"
+#include "cambio/config/experiment_config.hpp"
 #include "cambio/config/map_reader.hpp"
 
 namespace cambio::app::console {
@@ -90,9 +92,9 @@ class Parser {
     const std::string& name = words_[0];
     syntax_ = find(name);
     if (syntax_ == nullptr) {
-      std::string message = "unknown command \"" + name + "\"";
+      std::string message = "unknown command " + config::in_quotes(name);
       if (const auto near = config::closest_name(name, command_names())) {
-        message += "; did you mean \"" + *near + "\"?";
+        message += "; did you mean " + config::in_quotes(*near) + "?";
       } else {
         message += "; type help for the commands";
       }
@@ -101,8 +103,8 @@ class Parser {
     try {
       Command command = parse_command(name);
       if (words_.size() > next_) {
-        fail("nothing after " + std::string(words_[next_ - 1]) + ", found \"" + words_[next_] +
-             "\"");
+        fail("nothing after " + config::echoed(words_[next_ - 1]) + ", found " +
+             config::in_quotes(words_[next_]));
       }
       return command;
     } catch (const ParseError& error) {
@@ -124,14 +126,14 @@ class Parser {
   double number_word(const char* what) {
     const std::string& text = word(what);
     const auto value = number(text);
-    if (!value) fail(std::string(what) + ", found \"" + text + "\"");
+    if (!value) fail(std::string(what) + ", found " + config::in_quotes(text));
     return *value;
   }
 
   double angle_word(const char* what) {
     const std::string& text = word(what);
     const auto value = angle_rad(text);
-    if (!value) fail(std::string(what) + " (rad, or with deg), found \"" + text + "\"");
+    if (!value) fail(std::string(what) + " (rad, or with deg), found " + config::in_quotes(text));
     return *value;
   }
 
@@ -155,7 +157,7 @@ class Parser {
       t.kind = TargetKind::kObject;
       t.object = word("a scene object's name");
     } else {
-      fail("a target (pixel, point, angles or object), found \"" + kind + "\"");
+      fail("a target (pixel, point, angles or object), found " + config::in_quotes(kind));
     }
     return t;
   }
@@ -167,7 +169,7 @@ class Parser {
     if (side == "left") return Arm::kLeft;
     if (side == "right") return Arm::kRight;
     if (side == "nearest") return Arm::kNearest;
-    fail("left, right or nothing, found \"" + side + "\"");
+    fail("left, right or nothing, found " + config::in_quotes(side));
   }
 
   Command parse_command(const std::string& name) {
@@ -183,7 +185,12 @@ class Parser {
     if (name == "hold") return Hold{};
     if (name == "wait") {
       const double seconds = number_word("a number of seconds");
-      if (seconds < 0.0) fail("seconds >= 0, found " + words_[next_ - 1]);
+      // At most an experiment's longest run: the simulated clock counts int64 nanoseconds.
+      if (seconds < 0.0 || seconds > config::kMaxExperimentDuration_s) {
+        fail("seconds in [0, " +
+             std::to_string(static_cast<int>(config::kMaxExperimentDuration_s)) + "], found " +
+             config::echoed(words_[next_ - 1]));
+      }
       return Wait{seconds};
     }
     if (name == "move") {
@@ -196,7 +203,7 @@ class Parser {
     if (name == "saccade") return Saccade{target()};
     if (name == "verge") {
       const std::string& state = word("on or off");
-      if (state != "on" && state != "off") fail("on or off, found \"" + state + "\"");
+      if (state != "on" && state != "off") fail("on or off, found " + config::in_quotes(state));
       return Verge{state == "on"};
     }
     if (name == "reach") {
@@ -218,7 +225,7 @@ class Parser {
     Ssm ssm;
     if (next_ < words_.size()) {
       const std::string& keyword = word("save");
-      if (keyword != "save") fail("nothing or save DIR, found \"" + keyword + "\"");
+      if (keyword != "save") fail("nothing or save DIR, found " + config::in_quotes(keyword));
       ssm.save_directory = word("a directory after save");
     }
     return ssm;

@@ -7,6 +7,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "cambio/config/echoed_text.hpp"
 #include "cambio/config/map_reader.hpp"
 #include "feature_map_image.hpp"
 #include "image_files.hpp"
@@ -118,9 +119,9 @@ bool ConsoleSession::aim(const console::Target& target, bool saccade) {
               scene_objects_.end() ||
           truth == nullptr) {
         ++lines_refused_;
-        std::string why = "refused: no scene object \"" + target.object + "\"";
+        std::string why = "refused: no scene object " + config::in_quotes(target.object);
         if (const auto near = config::closest_name(target.object, scene_objects_)) {
-          why += "; did you mean \"" + *near + "\"?";
+          why += "; did you mean " + config::in_quotes(*near) + "?";
         } else if (!scene_objects_.empty()) {
           why += " (objects:";
           for (const auto& name : scene_objects_) why += " " + name;

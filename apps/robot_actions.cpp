@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cambio/config/echoed_text.hpp"
 #include "cambio/config/map_reader.hpp"
 
 namespace cambio::app {
@@ -186,9 +187,9 @@ behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, do
   if (joint == joints_.end()) {
     std::vector<std::string> names;
     for (const Joint& j : joints_) names.push_back(j.name);
-    std::string why = "no joint \"" + std::string(joint_name) + "\"";
+    std::string why = "no joint " + config::in_quotes(joint_name);
     if (const auto near = config::closest_name(joint_name, names)) {
-      why += "; did you mean \"" + *near + "\"?";
+      why += "; did you mean " + config::in_quotes(*near) + "?";
     }
     return refused(why);
   }

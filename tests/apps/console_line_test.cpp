@@ -76,11 +76,20 @@ TEST(ConsoleCommand, EveryCommandParses) {
 TEST(ConsoleCommand, AnUnknownCommandSuggestsTheNearest) {
   EXPECT_EQ(error("sacade point 1 0 1"), "unknown command \"sacade\"; did you mean \"saccade\"?");
   EXPECT_EQ(error("fly"), "unknown command \"fly\"; type help for the commands");
+  // What a terminal would act on is echoed escaped, and a long word is cut.
+  EXPECT_EQ(error("\x1b[2Jfly"), "unknown command \"\\x1b[2Jfly\"; type help for the commands");
+  const std::string message = error(std::string(5000, 'x'));
+  EXPECT_LT(message.size(), 200u);
+  EXPECT_NE(message.find("... (5000 bytes)"), std::string::npos) << message;
 }
 
 TEST(ConsoleCommand, BadArgumentsSayWhatWasExpected) {
   EXPECT_EQ(error("wait"), "wait: expected a number of seconds (usage: wait SECONDS)");
-  EXPECT_EQ(error("wait -1"), "wait: expected seconds >= 0, found -1 (usage: wait SECONDS)");
+  EXPECT_EQ(error("wait -1"),
+            "wait: expected seconds in [0, 86400], found -1 (usage: wait SECONDS)");
+  // Longer than any run (and past the int64 nanosecond clock at 9.2e9 s): refused, not wrapped.
+  EXPECT_EQ(error("wait 1e12"),
+            "wait: expected seconds in [0, 86400], found 1e12 (usage: wait SECONDS)");
   EXPECT_EQ(error("wait soon"),
             "wait: expected a number of seconds, found \"soon\" (usage: wait SECONDS)");
   EXPECT_NE(error("move neck_pan fast").find("an angle (rad, or with deg), found \"fast\""),

@@ -28,6 +28,17 @@ ObjectAddress address_of(const hal::CanFrame& frame) {
 
 }  // namespace
 
+// Why the server's answer to our initiate request does not fit it: another command, or another
+// object than the one asked for (SdoAbortCode{} when it fits).
+SdoAbortCode SdoClient::initiate_mismatch(const hal::CanFrame& frame,
+                                          std::uint8_t expected_scs) const {
+  if (sdo_command_specifier(frame.data[0]) != expected_scs) {
+    return SdoAbortCode::kInvalidCommandSpecifier;
+  }
+  if (!(address_of(frame) == object_)) return SdoAbortCode::kGeneralError;
+  return SdoAbortCode{};
+}
+
 hal::CanFrame SdoClient::start_download(ObjectAddress object, std::span<const std::uint8_t> data,
                                         std::int64_t now_ns, std::int64_t timeout_ns) {
   state_ = State::kBusy;
@@ -109,11 +120,9 @@ bool SdoClient::on_frame(const hal::CanFrame& frame, std::int64_t now_ns, hal::C
 bool SdoClient::on_download_answer(const hal::CanFrame& frame, hal::CanFrame& reply) {
   const std::uint8_t scs = sdo_command_specifier(frame.data[0]);
   if (!initiated_) {
-    if (scs != kSdoServerInitiateDownload) {
-      return abort(static_cast<std::uint32_t>(SdoAbortCode::kInvalidCommandSpecifier), reply);
-    }
-    if (!(address_of(frame) == object_)) {
-      return abort(static_cast<std::uint32_t>(SdoAbortCode::kGeneralError), reply);
+    if (const SdoAbortCode code = initiate_mismatch(frame, kSdoServerInitiateDownload);
+        code != SdoAbortCode{}) {
+      return abort(static_cast<std::uint32_t>(code), reply);
     }
     initiated_ = true;
     if (!download_data_.empty() && download_data_.size() <= kExpeditedBytes) {
@@ -155,11 +164,9 @@ hal::CanFrame SdoClient::next_download_segment() {
 bool SdoClient::on_upload_answer(const hal::CanFrame& frame, hal::CanFrame& reply) {
   const std::uint8_t scs = sdo_command_specifier(frame.data[0]);
   if (!initiated_) {
-    if (scs != kSdoServerInitiateUpload) {
-      return abort(static_cast<std::uint32_t>(SdoAbortCode::kInvalidCommandSpecifier), reply);
-    }
-    if (!(address_of(frame) == object_)) {
-      return abort(static_cast<std::uint32_t>(SdoAbortCode::kGeneralError), reply);
+    if (const SdoAbortCode code = initiate_mismatch(frame, kSdoServerInitiateUpload);
+        code != SdoAbortCode{}) {
+      return abort(static_cast<std::uint32_t>(code), reply);
     }
     initiated_ = true;
     const bool expedited = (frame.data[0] & 0x02) != 0;

@@ -69,6 +69,7 @@ class SdoClient {
   hal::CanFrame request_frame() const;
   hal::CanFrame next_download_segment();
   bool abort(std::uint32_t code, hal::CanFrame& reply);
+  SdoAbortCode initiate_mismatch(const hal::CanFrame& frame, std::uint8_t expected_scs) const;
   bool on_download_answer(const hal::CanFrame& frame, hal::CanFrame& reply);
   bool on_upload_answer(const hal::CanFrame& frame, hal::CanFrame& reply);
   bool append(std::span<const std::uint8_t> bytes);

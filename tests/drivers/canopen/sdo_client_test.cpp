@@ -120,6 +120,27 @@ TEST(SdoClient, WrongToggleIsAbortedWithTheToggleCode) {
   EXPECT_EQ(client.state(), SdoClient::State::kAborted);
 }
 
+TEST(SdoClient, AnInitiateAnswerThatDoesNotFitTheRequestIsAborted) {
+  hal::CanFrame reply;
+  {
+    // A download's answer that names another object: abort 0800 0000 (general error) for ours.
+    SdoClient client(3);
+    const std::array<std::uint8_t, 2> value{0x0F, 0x00};
+    (void)client.start_download({0x6040, 0}, value, 0, 1000);
+    ASSERT_TRUE(client.on_frame(server_frame(3, {0x60, 0x41, 0x60, 0x00}), 0, reply));
+    EXPECT_EQ(bytes_of(reply), (Bytes{0x80, 0x40, 0x60, 0x00, 0x00, 0x00, 0x00, 0x08}));
+    EXPECT_EQ(client.state(), SdoClient::State::kAborted);
+  }
+  {
+    // An upload answered as a download (scs 3): abort 0504 0001 (invalid command specifier).
+    SdoClient client(3);
+    (void)client.start_upload({0x6041, 0}, 0, 1000);
+    ASSERT_TRUE(client.on_frame(server_frame(3, {0x60, 0x41, 0x60, 0x00}), 0, reply));
+    EXPECT_EQ(bytes_of(reply), (Bytes{0x80, 0x41, 0x60, 0x00, 0x01, 0x00, 0x04, 0x05}));
+    EXPECT_EQ(client.state(), SdoClient::State::kAborted);
+  }
+}
+
 TEST(SdoClient, TimeoutSendsTheTimeoutAbort) {
   SdoClient client(9);
   (void)client.start_upload({0x1000, 0}, 1'000, 500);

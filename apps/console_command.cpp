@@ -2,6 +2,7 @@
 // loops running in the background (console_session.hpp carries out each line).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -180,6 +181,17 @@ MainJobResult run_realtime(ConsoleRun& run) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   });
+  // Waits between lines end early when the run stops (a signal, a device fault): a `wait 3600`
+  // must not hold a Ctrl-C for an hour.
+  const auto sleep_while_running = [&](std::chrono::nanoseconds duration) {
+    const auto until = std::chrono::steady_clock::now() + duration;
+    while (!stop_run.load() && !finished.load()) {
+      const auto left = until - std::chrono::steady_clock::now();
+      if (left <= std::chrono::nanoseconds::zero()) return;
+      std::this_thread::sleep_for(
+          std::min<std::chrono::nanoseconds>(left, std::chrono::milliseconds(20)));
+    }
+  };
   const auto start = std::chrono::steady_clock::now();
   while (!stop_run.load() && !finished.load()) {
     bool eof = false;
@@ -194,9 +206,11 @@ MainJobResult run_realtime(ConsoleRun& run) {
                             .count();
     const ConsoleSession::Next next = run.session.execute(*line, now_ns);
     if (next.quit) break;
-    if (next.wait_s > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(next.wait_s));
-    if (next.sent)
-      std::this_thread::sleep_for(std::chrono::nanoseconds(run.job.control_period_ns()));
+    if (next.wait_s > 0.0) {
+      sleep_while_running(std::chrono::duration_cast<std::chrono::nanoseconds>(
+          std::chrono::duration<double>(next.wait_s)));
+    }
+    if (next.sent) sleep_while_running(std::chrono::nanoseconds(run.job.control_period_ns()));
     run.lines.done_with_line();
   }
   stop_run = true;

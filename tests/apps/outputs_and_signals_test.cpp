@@ -182,5 +182,25 @@ TEST(Signals, AnInterruptedRunSaysSoInItsStatusItsSummaryAndItsProgress) {
   }
 }
 
+TEST(Signals, AConsoleWaitingOnARealtimeRigStopsAtOnce) {
+  // `wait 60` between two lines: the interrupt ends the wait and the run, not a minute later.
+  const fs::path log = fresh_directory("signal_console").string() + ".log";
+  fs::remove(log);
+  const auto started = std::chrono::steady_clock::now();
+  const auto result = run_in_shell(
+      "printf 'wait 60\\nstatus\\n' | \"$CAMBIO\" console "
+      "firmware_config/experiments/vergence_sphere.yaml "
+      "--set experiment.executor=realtime >'" +
+      log.string() + "' 2>&1 & pid=$!; until grep -q 'executor' '" + log.string() +
+      "' 2>/dev/null || [ $((tries += 1)) -ge 600 ]; do sleep 0.05; done; sleep 0.5; "
+      "kill -INT $pid; wait $pid; status=$?; "
+      "cat '" +
+      log.string() + "'; exit $status");
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  EXPECT_EQ(result.exit_code, 130) << result.output;
+  EXPECT_LT(wall_s, 30.0) << result.output;
+}
+
 }  // namespace
 }  // namespace cambio

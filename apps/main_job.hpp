@@ -64,10 +64,10 @@ struct MainJobResult {
   std::uint64_t stereo_pairs = 0;
   std::uint64_t mismatched_stereo_pairs = 0;  ///< Refused by the SSM: eyes' stamps too far apart.
   /// Summed over the joint loops (one per group rate):
-  std::uint64_t watchdog_cycles = 0;    ///< Joint loop held: targets went stale.
+  std::uint64_t watchdog_cycles = 0;      ///< Joint loop held: targets went stale.
   std::uint64_t startup_hold_cycles = 0;  ///< Joint loop held: no targets sent yet.
-  std::uint64_t fault_hold_cycles = 0;  ///< Joint loop held: fault latched or feedback stale.
-  std::uint64_t fault_recoveries = 0;   ///< Fault resets asked by experiment.fault_recovery.
+  std::uint64_t fault_hold_cycles = 0;    ///< Joint loop held: fault latched or feedback stale.
+  std::uint64_t fault_recoveries = 0;     ///< Fault resets asked by experiment.fault_recovery.
   bool fault_latched_at_end = false;
   bool stopped_by_signal = false;
   double simulated_s = 0.0;

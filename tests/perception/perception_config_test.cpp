@@ -80,7 +80,6 @@ TEST(PerceptionConfig, ReportsEveryMistakeWithPositionAndSuggestion) {
   }
 }
 
-
 // Found by fuzz_perception (tests/fuzz/regressions/fuzz_perception/): a disparity section that
 // set other keys let the default features through unchecked, and the SSM threw while building.
 TEST(PerceptionConfig, DefaultDisparityFeaturesMustExistWhateverTheDisparitySectionSets) {
@@ -91,8 +90,7 @@ TEST(PerceptionConfig, DefaultDisparityFeaturesMustExistWhateverTheDisparitySect
       FAIL() << "expected a ConfigError for: " << disparity;
     } catch (const config::ConfigError& error) {
       const std::string text = all_messages(error);
-      EXPECT_NE(text.find("the default disparity feature \"g2x@1.4\""), std::string::npos)
-          << text;
+      EXPECT_NE(text.find("the default disparity feature \"g2x@1.4\""), std::string::npos) << text;
       EXPECT_NE(text.find("set disparity.features"), std::string::npos) << text;
     }
   }

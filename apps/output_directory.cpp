@@ -3,12 +3,12 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
@@ -75,22 +75,85 @@ int lock_directory(const fs::path& directory) {
   return fd;
 }
 
-/// The files the manifest in `directory` lists (empty if there is none).
+/// Whether `name` is a plain file name a run may have written: no directory part, not `.` or
+/// `..`, not one of the directory's own bookkeeping names. A name read from a file (a manifest)
+/// is untrusted: anything else would let it reach outside the directory.
+bool is_plain_output_name(const std::string& name) {
+  return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
+         name.find('\0') == std::string::npos && name != OutputDirectory::kLockName &&
+         name != OutputDirectory::kManifestName && name.rfind(".cambio-staging-", 0) != 0;
+}
+
+/// A manifest is a few kilobytes; anything far larger was not written by a run.
+constexpr std::size_t kManifestMaxBytes = 1 << 20;
+
+/// Reads `path` if it is a regular file of at most `max_bytes`, without following a symlink and
+/// without blocking on a FIFO or device. Throws OutputError naming what it is instead.
+std::string read_regular_file(const fs::path& path, std::size_t max_bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw OutputError(in_quotes(path) + ": cannot open: " + errno_text(errno));
+  struct stat info {};
+  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode) ||
+      static_cast<std::size_t>(info.st_size) > max_bytes) {
+    const bool regular = S_ISREG(info.st_mode);
+    ::close(fd);
+    throw OutputError(in_quotes(path) + (regular ? ": larger than a manifest can be (" +
+                                                       std::to_string(max_bytes) + " bytes)"
+                                                 : std::string(": not a regular file")));
+  }
+  std::string text;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int error = errno;
+      ::close(fd);
+      throw OutputError(in_quotes(path) + ": cannot read: " + errno_text(error));
+    }
+    if (n == 0) break;
+    text.append(buffer, static_cast<std::size_t>(n));
+    if (text.size() > max_bytes) {
+      ::close(fd);
+      throw OutputError(in_quotes(path) + ": larger than a manifest can be");
+    }
+  }
+  ::close(fd);
+  return text;
+}
+
+/// The files the manifest in `directory` lists (empty if there is none). Every name must be a
+/// plain file name: a manifest naming `/etc/passwd` or `../x` is refused, never acted on.
 std::set<std::string> read_manifest(const fs::path& directory) {
   const fs::path manifest = directory / OutputDirectory::kManifestName;
-  std::error_code error;
-  if (!fs::exists(manifest, error)) return {};
-  std::ifstream file(manifest);
-  const nlohmann::json json = nlohmann::json::parse(file, nullptr, /*allow_exceptions=*/false);
+  struct stat link_info {};
+  if (::lstat(manifest.c_str(), &link_info) != 0) {
+    if (errno == ENOENT) return {};
+    throw OutputError(in_quotes(manifest) + ": cannot read: " + errno_text(errno));
+  }
+  const auto unreadable = [&](const std::string& why) {
+    return OutputError(in_quotes(directory) + ": its " + OutputDirectory::kManifestName + " " +
+                       why +
+                       ", so what it holds cannot be told from files cambio did not "
+                       "write; remove the directory or choose another --out");
+  };
+  std::string text;
+  try {
+    text = read_regular_file(manifest, kManifestMaxBytes);
+  } catch (const OutputError& error) {
+    throw unreadable(std::string("is unusable (") + error.what() + ")");
+  }
+  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (json.is_discarded() || !json.is_object() || !json.contains("files") ||
       !json["files"].is_array()) {
-    throw OutputError(in_quotes(directory) + ": its " + OutputDirectory::kManifestName +
-                      " is unreadable, so what it holds cannot be told from files cambio did "
-                      "not write; remove the directory or choose another --out");
+    throw unreadable("is unreadable");
   }
   std::set<std::string> files;
   for (const auto& name : json["files"]) {
-    if (name.is_string()) files.insert(name.get<std::string>());
+    if (!name.is_string() || !is_plain_output_name(name.get<std::string>())) {
+      throw unreadable("lists " + name.dump() + ", which is not a plain file name a run writes");
+    }
+    files.insert(name.get<std::string>());
   }
   return files;
 }
@@ -101,7 +164,15 @@ void check_only_cambio_files(const fs::path& directory, const std::set<std::stri
   for (fs::directory_iterator it(directory, error), end; !error && it != end; it.increment(error)) {
     const std::string name = it->path().filename().string();
     if (name == OutputDirectory::kLockName || name == OutputDirectory::kManifestName) continue;
-    if (listed.count(name) != 0) continue;
+    if (listed.count(name) != 0) {
+      // A run writes regular files only; a listed name that is a directory (or a symlink to
+      // one) would make replacing the set remove what cambio never wrote.
+      std::error_code status_error;
+      if (!it->is_symlink(status_error) && it->is_regular_file(status_error)) continue;
+      throw OutputError(in_quotes(directory) + " holds " + in_quotes(name) +
+                        ", which its manifest lists but which is not a regular file a run "
+                        "writes; remove it or choose another --out");
+    }
     throw OutputError(in_quotes(directory) + " holds " + in_quotes(name) +
                       ", which no cambio run wrote (" +
                       (listed.empty() ? std::string("the directory has no manifest")
@@ -109,6 +180,22 @@ void check_only_cambio_files(const fs::path& directory, const std::set<std::stri
                       "); choose an empty or new directory for --out, or remove what is there");
   }
   if (error) throw OutputError(in_quotes(directory) + ": cannot list: " + error.message());
+}
+
+/// Whether `directory` is the root of a file system of its own (a bind mount, a Docker volume):
+/// it cannot be swapped with a sibling, and files cannot be renamed into it from beside it.
+bool is_mount_point(const fs::path& directory) {
+  struct statx self {};
+  if (::statx(AT_FDCWD, directory.c_str(), 0, STATX_BASIC_STATS, &self) == 0 &&
+      (self.stx_attributes_mask & STATX_ATTR_MOUNT_ROOT) != 0) {
+    return (self.stx_attributes & STATX_ATTR_MOUNT_ROOT) != 0;
+  }
+  // Kernels before 5.8: a mount of another file system still shows as another device.
+  struct stat own {
+  }, parent{};
+  if (::stat(directory.c_str(), &own) != 0 || ::stat(directory.parent_path().c_str(), &parent) != 0)
+    return false;
+  return own.st_dev != parent.st_dev;
 }
 
 bool process_alive(long pid) {
@@ -182,7 +269,9 @@ void OutputDirectory::make_staging_directory() {
   const fs::path beside =
       path_.parent_path() / (staging_prefix(path_) + std::to_string(::getpid()));
   const fs::path inside = path_ / (".cambio-staging-" + std::to_string(::getpid()));
-  for (const fs::path& candidate : {beside, inside}) {
+  std::vector<fs::path> candidates{beside, inside};
+  if (is_mount_point(path_)) candidates.erase(candidates.begin());
+  for (const fs::path& candidate : candidates) {
     std::error_code error;
     fs::remove_all(candidate, error);
     if (fs::create_directory(candidate, error)) {
@@ -201,8 +290,7 @@ void OutputDirectory::make_staging_directory() {
 
 void OutputDirectory::stage(const std::string& name, std::span<const std::uint8_t> bytes) {
   if (committed_) throw std::logic_error("output directory: stage() after commit()");
-  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
-      name == kLockName || name == kManifestName || name.rfind(".cambio-staging-", 0) == 0) {
+  if (!is_plain_output_name(name)) {
     throw OutputError("output file name " + in_quotes(name) + " is not a plain file name");
   }
   make_staging_directory();
@@ -234,7 +322,10 @@ void OutputDirectory::commit() {
     remove_staging_directory();
     return;
   }
-  if (beside && errno != EINVAL && errno != ENOSYS && errno != EOPNOTSUPP) {
+  // A mount point (a Docker volume as --out) cannot be swapped (EBUSY), nor a directory across
+  // file systems (EXDEV): both are written file by file instead.
+  if (beside && errno != EINVAL && errno != ENOSYS && errno != EOPNOTSUPP && errno != EBUSY &&
+      errno != EXDEV) {
     throw OutputError(in_quotes(path_) +
                       ": cannot put the new files in place: " + errno_text(errno));
   }

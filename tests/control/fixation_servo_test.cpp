@@ -9,10 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -23,7 +21,6 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/shipped_config.hpp"
-#include "cambio/runtime/allocation_counter.hpp"
 
 namespace cambio::control {
 namespace {
@@ -327,31 +324,6 @@ TEST_F(FixationServoTest, RefusesBadInputAndUnsetParameters) {
   FixationParams no_depth = params();
   no_depth.default_depth_m = 0.0;
   EXPECT_THROW(FixationServo(hardware_, no_depth), std::invalid_argument);
-}
-
-TEST_F(FixationServoTest, ReportsTheCostOfOneVelocityCall) {
-  FixationServo servo(hardware_, params());
-  const Eigen::Vector4d target = target_beside(hal::Eye::kLeft, 35.0 * kDeg, 1.0);
-  Eigen::VectorXd q = zero_q();
-  std::vector<double> qdot(q.size());
-  constexpr int kCalls = 2000;
-  // operator new only: ViSP's arrays use malloc, which this counter does not see (about a
-  // hundred malloc/calloc/realloc per call, counted once with gdb).
-  const std::uint64_t allocations_before = runtime::thread_allocation_count();
-  const auto start = std::chrono::steady_clock::now();
-  for (int k = 0; k < kCalls; ++k) {
-    ASSERT_EQ(servo.velocity(std::span<const double>(q.data(), q.size()), target, 0.05, qdot),
-              hal::Status::kOk);
-  }
-  const double per_call_us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() /
-      kCalls;
-  const double allocations =
-      static_cast<double>(runtime::thread_allocation_count() - allocations_before) / kCalls;
-  RecordProperty("velocity_us", std::to_string(per_call_us));
-  RecordProperty("velocity_allocations", std::to_string(allocations));
-  std::printf("velocity(): %.1f us, %.1f operator new per call\n", per_call_us, allocations);
-  EXPECT_LT(per_call_us, 1000.0);  // Far inside the 5 ms control period.
 }
 
 }  // namespace

@@ -195,6 +195,10 @@ void MainJob::build_loops() {
                                      ? perception::default_ssm_config_path()
                                      : experiment_.perception_path;
     ssm = ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
+    if (!(ssm.disparity.scan_range_px > 0.0)) {
+      ssm.disparity.scan_range_px = perception::largest_disparity_px(
+          hardware_.cameras[stereo->left].intrinsics.focal_x_px, hardware_.stereo->baseline_m);
+    }
     for (const std::size_t eye : {stereo->left, stereo->right}) {
       const config::CameraConfig* camera = rig.find_camera(hardware_.cameras[eye].name);
       if (camera == nullptr) continue;
@@ -324,6 +328,8 @@ void MainJob::build_trace() {
   sources.truth = &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
   sources.dominant_camera = camera_of(dominant).name;
   sources.verging_camera = camera_of(hal::other(dominant)).name;
+  sources.verging_focal_px = camera_of(hal::other(dominant)).intrinsics.focal_x_px;
+  sources.verging_eye_is_right = hal::other(dominant) == hal::Eye::kRight;
   sources.dominant_pan_joint = camera_of(dominant).parent_frame;
   sources.verging_pan_joint = camera_of(hal::other(dominant)).parent_frame;
   sources.target_object = experiment_.evaluation.target_object;

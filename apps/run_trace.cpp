@@ -299,6 +299,12 @@ hal::Status TraceRecorder::record(const hal::LoopTick& tick) {
   }
   if (verging_target_W.allFinite()) {
     row.verging_gaze_error_deg = angle_deg(axis_v, verging_target_W - o_v);
+    const Eigen::Vector3d p_V = X_WV.inverse() * verging_target_W;
+    if (p_V.z() > 0.0 && sources_.verging_focal_px > 0.0) {
+      // The point is at the dominant image's centre: the disparity is the verging image's x.
+      const double x_px = sources_.verging_focal_px * p_V.x() / p_V.z();
+      row.true_disparity_px = sources_.verging_eye_is_right ? -x_px : x_px;
+    }
     row.target_occluded =
         truth.segment_blocker(o_v, verging_target_W, hit.hit ? hit.object : std::string()).hit;
   }

@@ -58,6 +58,9 @@ struct TraceRow {
   double dominant_gaze_error_deg = kNoValue;
   double verging_gaze_error_deg = kNoValue;
   double true_gaze_error_deg = kNoValue;  ///< The larger of the two (the one there is).
+  /// The disparity the SSM should measure at the retinas' centres (x_left - x_right, level-0
+  /// px): the point the dominant eye's true axis meets, projected into the verging camera.
+  double true_disparity_px = kNoValue;
   /// The verging eye's view of its target point is blocked by another scene object, or the
   /// dominant eye's axis meets an object other than the named target object.
   bool target_occluded = false;
@@ -160,6 +163,9 @@ struct TraceSources {
   sim::GroundTruth* truth = nullptr;
   std::string dominant_camera;
   std::string verging_camera;
+  /// The verging camera's focal length and side, for the true disparity (TraceRow).
+  double verging_focal_px = 0.0;
+  bool verging_eye_is_right = true;
   /// The eyes' pan joints (names in joint_names), for the saccade and neck-rule metrics; may be
   /// empty.
   std::string dominant_pan_joint;

@@ -84,18 +84,92 @@ float DisparityEstimator::score(const float* left, const float* right, int shift
 
 void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& right,
                                   const Retina& left_retina, const Retina& right_retina,
-                                  DisparityResult& out,
-                                  ShiftedLevelSource* shifted) const noexcept {
+                                  DisparityResult& out, ShiftedLevelSource* shifted,
+                                  const DisparityScanResult* scan) const noexcept {
   out = DisparityResult{};
   out.levels = left_retina.levels();
+  if (scan == nullptr || !scan->searched || scan->count == 0 || scan->level < 0 ||
+      scan->level >= left_retina.levels()) {
+    descend(left, right, left_retina, right_retina, left_retina.levels() - 1, false, 0.0, 0, out,
+            shifted);
+    return;
+  }
+  // Every candidate of the scan is refined through the finer levels; the one the fixated patch
+  // agrees with best (the scan's score plus the finer levels' peaks) wins. A wrong candidate
+  // (a backdrop, a repeated texture) finds no peak at the finer levels, whose windows hold the
+  // fixated surface alone.
+  float best_key = -1e9f;
+  float second_key = -1e9f;
+  float best_weight = 1.0f;
+  float best_texture = 0.0f;
+  for (int i = 0; i < scan->count; ++i) {
+    const DisparityCandidate& candidate = scan->candidates[static_cast<std::size_t>(i)];
+    DisparityResult& trial = trial_;
+    trial = DisparityResult{};
+    trial.levels = out.levels;
+    LevelDisparity& scanned = trial.per_level[static_cast<std::size_t>(scan->level)];
+    scanned.searched = true;
+    scanned.valid = true;
+    scanned.disparity_px = candidate.disparity_px;
+    scanned.peak_score = candidate.score;
+    scanned.texture_rms = scan->texture_rms;
+    scanned.scale_px = scan->scale_px;
+    trial.valid = true;
+    trial.disparity_px = candidate.disparity_px;
+    trial.level = scan->level;
+    descend(left, right, left_retina, right_retina, scan->level - 1, true, candidate.disparity_px,
+            scan->scale_px, trial, shifted);
+    float key = candidate.score;
+    float weight = 1.0f;
+    float texture = scan->texture_rms;
+    for (int k = scan->level - 1; k >= 0; --k) {
+      const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];
+      if (!level.searched || level.texture_rms < config_.min_texture_rms) continue;
+      // The finer levels' windows are smaller (a 9-px window at level 0 may see one smooth
+      // texel): they tip the balance between candidates the scan finds alike, not more.
+      key += kFinerLevelWeight * (level.valid ? level.peak_score : 0.0f);
+      weight += kFinerLevelWeight;
+      texture = std::max(texture, level.texture_rms);
+    }
+    keys_[static_cast<std::size_t>(i)] = key;
+    refined_[static_cast<std::size_t>(i)] = trial.disparity_px;
+    if (key > best_key) {
+      best_key = key;
+      best_weight = weight;
+      best_texture = texture;
+      out = trial;
+    }
+  }
+  // The runner-up is the best hypothesis of another disparity: candidates that refined to the
+  // winner's (neighbouring maxima of one textured surface) are the same hypothesis.
+  for (int i = 0; i < scan->count; ++i) {
+    const auto at = static_cast<std::size_t>(i);
+    if (std::abs(refined_[at] - out.disparity_px) > 1.5f * static_cast<float>(scan->scale_px)) {
+      second_key = std::max(second_key, keys_[at]);
+    }
+  }
+  // Confidence, on the evidence the choice was made on: how well the winner matches (its mean
+  // score per unit weight), how clearly it beats the best hypothesis of another disparity (a
+  // periodic texture gives several alike: low), and whether there was texture to match at all
+  // (the most textured level compared: a fine texture averages out at the scan's blocks).
+  const double quality = std::clamp(best_key / best_weight, 0.0f, 1.0f);
+  const double margin = second_key <= -1e8f ? quality : (best_key - second_key) / best_weight;
+  const double ratio = best_texture / config_.min_texture_rms;
+  const double texture_factor = ratio * ratio / (1.0 + ratio * ratio);
+  out.confidence = static_cast<float>(
+      quality * quality * std::clamp(margin / kDistinctMargin, 0.0, 1.0) * texture_factor);
+}
+
+void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& right,
+                                 const Retina& left_retina, const Retina& right_retina,
+                                 int from_level, bool have_estimate, double estimate_px,
+                                 int coarser_scale, DisparityResult& out,
+                                 ShiftedLevelSource* shifted) const noexcept {
   const int cx = width_ / 2;
   // Shifts d keep the right window inside the map: right columns cx - h - d .. cx + h - d.
   const int shift_min = cx + half_ - (width_ - 1);
   const int shift_max = cx - half_;
-  bool have_estimate = false;
-  double estimate_px = 0.0;
-  int coarser_scale = 0;
-  for (int k = left_retina.levels() - 1; k >= 0; --k) {
+  for (int k = from_level; k >= 0; --k) {
     LevelDisparity& level = out.per_level[static_cast<std::size_t>(k)];
     const int scale = left_retina.level(k).scale_px;
     level.scale_px = scale;

@@ -141,6 +141,10 @@ SsmConfig read_ssm_config(config::MapReader& root) {
         reader->integer_or("refine_range_px", d.refine_range_px, config::Range::closed(1, 64)));
     d.min_texture_rms =
         reader->number_or("min_texture_rms", d.min_texture_rms, config::Range::non_negative());
+    d.scan_range_px = reader->number_or("scan_range_px", d.scan_range_px,
+                                        config::Range::closed(0, kMaxSearchRange_px));
+    d.scan_window_px = reader->number_or("scan_window_px", d.scan_window_px,
+                                         config::Range::closed(1, kMaxSearchRange_px));
     reader->finish();
   }
   if (!disparity_features_given) {

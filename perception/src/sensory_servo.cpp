@@ -39,6 +39,8 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
       *this, std::make_unique<Retina>(config.retina, apron, image_width_px, image_height_px),
       FeatureMaps(config.retina.levels, bank_.map_count(), config.retina.width_px,
                   config.retina.height_px));
+  scan_ = std::make_unique<DisparityScan>(config.disparity, config.operators, bank_, config.retina,
+                                          image_width_px, image_height_px);
   moments_map_ = bank_.find(config.moments.map);
   if (moments_map_ < 0) {
     throw std::invalid_argument("moments map '" + config.moments.map + "' is not a feature map");
@@ -124,8 +126,10 @@ hal::Status SensoryServo::process(const hal::Image& left, const hal::Image& righ
   summary.disparity = DisparityResult{};
   if (request.disparity && config_.disparity.enabled) {
     shifted_right_->prepare(right, right_fixation);
+    const bool scanned = scan_->enabled();
+    if (scanned) scan_->scan(out.maps[0], right, right_fixation, scan_result_);
     disparity_.estimate(out.maps[0], out.maps[1], *retinas_[0], *retinas_[1], summary.disparity,
-                        shifted_right_.get());
+                        shifted_right_.get(), scanned ? &scan_result_ : nullptr);
   }
   const auto disparity_done = SteadyClock::now();
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <vector>
 
+#include "cambio/perception/disparity_scan.hpp"
 #include "cambio/perception/feature_maps.hpp"
 #include "cambio/perception/operator_bank.hpp"
 #include "cambio/perception/perception_config.hpp"
@@ -37,6 +38,7 @@ struct DisparityResult {
   float confidence = 0.0f;
   int level = -1;  ///< The finest level that produced the estimate.
   int levels = 0;
+  int candidates = 0;  ///< Hypotheses of the whole-range scan compared (0: no scan).
   std::array<LevelDisparity, Retina::kMaxLevels> per_level{};
 };
 
@@ -74,15 +76,26 @@ class DisparityEstimator {
 
   /// Real-time safe; not thread-safe (scratch). Retinas give each level's block size.
   /// Without `shifted`, a level whose refinement range leaves the overlap stops the descent.
+  /// With a `scan` (DisparityScan) its candidates are refined from the level below the scan's
+  /// and the best kept; the confidence then is mean peak^2 x margin over the runner-up x texture.
   void estimate(const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
                 const Retina& right_retina, DisparityResult& out,
-                ShiftedLevelSource* shifted = nullptr) const noexcept;
+                ShiftedLevelSource* shifted = nullptr,
+                const DisparityScanResult* scan = nullptr) const noexcept;
 
  private:
   /// ZNCC of the left window against the right window shifted by `shift` level px; both
   /// arguments point at one level's planes (FeatureMaps::level layout).
   float score(const float* left, const float* right, int shift) const noexcept;
   float left_texture(const float* left) const noexcept;
+  /// Coarse-to-fine from `from_level` down to level 0, from a coarser estimate if one is given.
+  void descend(const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
+               const Retina& right_retina, int from_level, bool have_estimate, double estimate_px,
+               int coarser_scale, DisparityResult& out, ShiftedLevelSource* shifted) const noexcept;
+  /// The winner's lead over the runner-up (ZNCC per level) at which it is fully distinct.
+  static constexpr double kDistinctMargin = 0.3;
+  /// How much a finer level's peak counts, against the scan level's, in choosing a candidate.
+  static constexpr float kFinerLevelWeight = 0.5f;
   const float* plane(const float* level, int map) const {
     return level + static_cast<std::ptrdiff_t>(map) * width_ * height_;
   }
@@ -95,6 +108,9 @@ class DisparityEstimator {
   int half_ = 0;
   int half_y_ = 0;
   mutable std::vector<float> scores_;  ///< Indexed by shift - lowest shift searched.
+  mutable DisparityResult trial_;      ///< One scan candidate's descent.
+  mutable std::array<float, DisparityScanResult::kMaxCandidates> keys_{};
+  mutable std::array<float, DisparityScanResult::kMaxCandidates> refined_{};
 };
 
 }  // namespace cambio::perception

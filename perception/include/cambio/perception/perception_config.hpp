@@ -51,7 +51,24 @@ struct DisparityConfig {
   int window_half_px = 0;         ///< Correlation window half-size in level px; 0: width/4.
   int refine_range_px = 2;        ///< +- search around the coarser estimate, level px.
   double min_texture_rms = 0.5;   ///< Below this rms feature deviation a level is invalid.
+  /// +- level-0 px of the whole-range scan (DisparityScan); 0: no scan. A run sets it from the
+  /// rig when the file leaves it out (the largest disparity a target at the nearest supported
+  /// fixation distance can have).
+  double scan_range_px = 0.0;
+  /// The scan takes the finest retina level whose correlation window spans this many px.
+  double scan_window_px = 32.0;
 };
+
+/// The nearest fixation distance the stack supports (m): nearer, the eyes' pans and the arms'
+/// reach end anyway.
+inline constexpr double kNearestFixation_m = 0.3;
+
+/// The largest disparity (level-0 px, either sign) a rig with this focal length and baseline can
+/// see at the retina's centre: a target at kNearestFixation_m with the eyes parallel
+/// (f b / z), or the eyes verged on it and the fixation moved to infinity.
+inline double largest_disparity_px(double focal_px, double baseline_m) {
+  return focal_px * baseline_m / kNearestFixation_m;
+}
 
 /// Lucas-Kanade translation per level from two consecutive frames of one eye.
 struct MotionConfig {

@@ -127,6 +127,8 @@ class SensoryServo {
   int moments_map_ = 0;
   std::uint64_t sequence_ = 0;
   std::unique_ptr<ShiftedRight> shifted_right_;
+  std::unique_ptr<DisparityScan> scan_;  ///< Off unless disparity.scan_range_px > 0.
+  DisparityScanResult scan_result_;
 };
 
 }  // namespace cambio::perception

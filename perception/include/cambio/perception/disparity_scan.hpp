@@ -1,0 +1,86 @@
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "cambio/hal/image.hpp"
+#include "cambio/perception/feature_maps.hpp"
+#include "cambio/perception/operator_bank.hpp"
+#include "cambio/perception/perception_config.hpp"
+#include "cambio/perception/retina.hpp"
+
+namespace cambio::perception {
+
+/// One disparity the fixated patch may have: a local maximum of the scan's correlation.
+struct DisparityCandidate {
+  float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px (a whole number of scan blocks).
+  float score = 0.0f;         ///< ZNCC at the scan level.
+};
+
+/// What a scan found, best candidate first.
+struct DisparityScanResult {
+  static constexpr int kMaxCandidates = 4;
+  bool searched = false;
+  int level = -1;    ///< The retina level scanned.
+  int scale_px = 0;  ///< Its block size.
+  int shifts = 0;    ///< Shifts scored (inside the image).
+  float texture_rms = 0.0f;
+  int count = 0;
+  std::array<DisparityCandidate, kMaxCandidates> candidates{};
+};
+
+/// The whole disparity range a rig can produce, searched at once for the fixated patch.
+///
+/// Why: a coarse-to-fine search starting from a field-covering level matches whatever fills
+/// that level's window (a backdrop, another object) and cannot recover when that is not the
+/// fixated surface; and a finer level can only search what its small retina overlaps. The scan
+/// takes the finest retina level whose correlation window spans at least scan_window_px (about
+/// the fovea's size: the fixated surface dominates it), builds the right eye's samples of that
+/// level over a strip wide enough for every disparity up to scan_range_px, computes the
+/// disparity features on it with the same operators, and scores the left window against every
+/// shift. Its local maxima are candidates; the estimator refines each at the finer levels and
+/// keeps the one the fixated patch agrees with (several hypotheses, as population codes of
+/// disparity-tuned units keep several, instead of one coarse guess).
+///
+/// Cost: one strip level (width + 2 scan_range / scale samples) and its features, then one
+/// ZNCC per shift. Allocates in the constructor only; scan() is real-time safe.
+class DisparityScan {
+ public:
+  /// `bank` is the SSM's operator bank (the maps are looked up by the disparity features' names);
+  /// the retina's size and levels are the SSM's. Throws std::invalid_argument on a config the
+  /// estimator would refuse. With config.scan_range_px <= 0 the scan is off (enabled() false).
+  DisparityScan(const DisparityConfig& disparity, const OperatorConfig& operators,
+                const OperatorBank& bank, const RetinaConfig& retina, int image_width_px,
+                int image_height_px);
+  ~DisparityScan();
+
+  bool enabled() const { return enabled_; }
+  int level() const { return level_; }
+
+  /// Scores the left retina's window at level() (`left`, the SSM's left feature maps) against
+  /// the right image around `right_fixation`. Real-time safe; not thread-safe.
+  void scan(const FeatureMaps& left, const hal::Image& right, PixelPoint right_fixation,
+            DisparityScanResult& out) noexcept;
+
+ private:
+  float score(const float* left_level, int shift) const noexcept;
+
+  bool enabled_ = false;
+  int level_ = 0;
+  int width_ = 0;  ///< The SSM retina's width (samples).
+  int height_ = 0;
+  int half_ = 0;  ///< Correlation window half-width, samples.
+  int half_y_ = 0;
+  int range_ = 0;  ///< Shifts searched each way, samples.
+  int strip_width_ = 0;
+  int image_width_ = 0;
+  std::vector<int> features_;
+  MapMask required_ = 0;
+  std::unique_ptr<Retina> strip_;
+  std::unique_ptr<OperatorBank> strip_bank_;
+  std::vector<float> strip_maps_;  ///< features x strip_width x height.
+  std::vector<float> scores_;      ///< Indexed by shift + range_.
+};
+
+}  // namespace cambio::perception

@@ -1,0 +1,177 @@
+#include "cambio/perception/disparity_scan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace cambio::perception {
+
+namespace {
+
+/// The half-width (samples) of the mask that makes `spec`, as the operator bank builds it.
+int mask_half_width(const MapSpec& spec, const OperatorConfig& operators, int bank_apron) {
+  switch (spec.kind) {
+    case MapKind::kIntensity:
+      return 0;
+    case MapKind::kGaussian:
+    case MapKind::kLaplacian:
+      return operators.half_width_px > 0
+                 ? operators.half_width_px
+                 : static_cast<int>(std::ceil(operators.half_width_sigmas * spec.sigma_px));
+    default:
+      return bank_apron;
+  }
+}
+
+}  // namespace
+
+DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorConfig& operators,
+                             const OperatorBank& bank, const RetinaConfig& retina,
+                             int image_width_px, int image_height_px)
+    : width_(retina.width_px), height_(retina.height_px), image_width_(image_width_px) {
+  if (!disparity.enabled || !(disparity.scan_range_px > 0.0)) return;
+  half_ = disparity.window_half_px > 0 ? disparity.window_half_px : std::max(1, width_ / 4);
+  half_y_ = std::min(half_, (height_ - 1) / 2);
+  // The finest level whose window spans scan_window_px; a field-covering coarsest level has
+  // blocks of another size than the strip would, so it is not a candidate.
+  const int last = retina.coarsest_covers_field ? retina.levels - 2 : retina.levels - 1;
+  if (last < 0) return;
+  level_ = last;
+  for (int k = 0; k <= last; ++k) {
+    if ((2 * half_ + 1) * (1 << k) >= disparity.scan_window_px) {
+      level_ = k;
+      break;
+    }
+  }
+  const int scale = 1 << level_;
+  range_ = static_cast<int>(std::ceil(disparity.scan_range_px / scale));
+  strip_width_ = width_ + 2 * range_;
+
+  int apron = 0;
+  const auto& specs = bank.maps();
+  for (const auto& name : disparity.features) {
+    const int index = bank.find(name);
+    if (index < 0) throw std::invalid_argument("disparity feature '" + name + "' is not a map");
+    features_.push_back(index);
+    required_ |= MapMask{1} << index;
+    apron = std::max(
+        apron, mask_half_width(specs[static_cast<std::size_t>(index)], operators, bank.apron_px()));
+  }
+  RetinaConfig strip_config;
+  strip_config.levels = level_ + 1;
+  strip_config.width_px = strip_width_;
+  strip_config.height_px = height_;
+  strip_config.coarsest_covers_field = false;
+  strip_ = std::make_unique<Retina>(strip_config, apron, image_width_px, image_height_px);
+  strip_bank_ = std::make_unique<OperatorBank>(operators, strip_width_, height_);
+  strip_maps_.assign(static_cast<std::size_t>(strip_bank_->map_count()) * strip_width_ * height_,
+                     0.0f);
+  scores_.assign(static_cast<std::size_t>(2 * range_ + 1), 0.0f);
+  enabled_ = true;
+}
+
+DisparityScan::~DisparityScan() = default;
+
+float DisparityScan::score(const float* left_level, int shift) const noexcept {
+  // The left window at the retina's centre against the strip's window `shift` samples to the
+  // left of the strip's centre (x_right = x_left - d), as DisparityEstimator::score().
+  const int cx = width_ / 2;
+  const int cy = height_ / 2;
+  const int sx = strip_width_ / 2 - shift;
+  const int w = 2 * half_ + 1;
+  const int n = w * (2 * half_y_ + 1);
+  double cross = 0.0, left_energy = 0.0, right_energy = 0.0;
+  for (const int f : features_) {
+    const float* l = left_level + static_cast<std::ptrdiff_t>(f) * width_ * height_;
+    const float* r = strip_maps_.data() + static_cast<std::ptrdiff_t>(f) * strip_width_ * height_;
+    float sl = 0.0f, sr = 0.0f, sll = 0.0f, srr = 0.0f, slr = 0.0f;
+    for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
+      const float* lr = l + y * width_ + cx - half_;
+      const float* rr = r + y * strip_width_ + sx - half_;
+      for (int x = 0; x < w; ++x) {
+        sl += lr[x];
+        sr += rr[x];
+        sll += lr[x] * lr[x];
+        srr += rr[x] * rr[x];
+        slr += lr[x] * rr[x];
+      }
+    }
+    cross += static_cast<double>(slr) - static_cast<double>(sl) * sr / n;
+    left_energy += static_cast<double>(sll) - static_cast<double>(sl) * sl / n;
+    right_energy += static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
+  }
+  const double denominator = std::sqrt(std::max(left_energy, 0.0) * std::max(right_energy, 0.0));
+  return denominator > 0.0 ? static_cast<float>(cross / denominator) : 0.0f;
+}
+
+void DisparityScan::scan(const FeatureMaps& left, const hal::Image& right,
+                         PixelPoint right_fixation, DisparityScanResult& out) noexcept {
+  out = DisparityScanResult{};
+  if (!enabled_ || strip_->build_one_level(right, level_, right_fixation) != hal::Status::kOk) {
+    return;
+  }
+  const RetinaLevelView strip = strip_->level(level_);
+  // Only the features' families are computed; the bank writes map i at plane i.
+  strip_bank_->apply(strip, required_, strip_maps_.data());
+  const int scale = strip.scale_px;
+  out.searched = true;
+  out.level = level_;
+  out.scale_px = scale;
+
+  const float* left_level = left.level(level_);
+  {
+    const int cx = width_ / 2, cy = height_ / 2;
+    const int n = (2 * half_ + 1) * (2 * half_y_ + 1);
+    double variance = 0.0;
+    for (const int f : features_) {
+      const float* map = left_level + static_cast<std::ptrdiff_t>(f) * width_ * height_;
+      double sum = 0.0, sum_sq = 0.0;
+      for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
+        for (int x = cx - half_; x <= cx + half_; ++x) {
+          sum += map[y * width_ + x];
+          sum_sq += static_cast<double>(map[y * width_ + x]) * map[y * width_ + x];
+        }
+      }
+      const double mean = sum / n;
+      variance += std::max(0.0, sum_sq / n - mean * mean);
+    }
+    out.texture_rms =
+        static_cast<float>(std::sqrt(variance / static_cast<double>(features_.size())));
+  }
+
+  // Shifts whose right window lies wholly inside the image: beyond it the strip replicates the
+  // edge, which can correlate with anything.
+  const auto inside = [&](int shift) {
+    const int first = strip_width_ / 2 - shift - half_;
+    const double left_px = strip.origin_x_px + static_cast<double>(first) * scale;
+    const double right_px = left_px + static_cast<double>(2 * half_ + 1) * scale;
+    return left_px >= 0.0 && right_px <= static_cast<double>(image_width_);
+  };
+  constexpr float kOutside = -2.0f;
+  for (int d = -range_; d <= range_; ++d) {
+    float& s = scores_[static_cast<std::size_t>(d + range_)];
+    s = inside(d) ? score(left_level, d) : kOutside;
+    if (s > kOutside) ++out.shifts;
+  }
+  // Local maxima (ties resolved toward the lower shift), best first; the range's ends only if
+  // the scores fall toward them (the range covers every disparity the rig can produce).
+  for (int d = -range_; d <= range_; ++d) {
+    const float s = scores_[static_cast<std::size_t>(d + range_)];
+    if (!(s > 0.0f)) continue;
+    const float below = d > -range_ ? scores_[static_cast<std::size_t>(d - 1 + range_)] : kOutside;
+    const float above = d < range_ ? scores_[static_cast<std::size_t>(d + 1 + range_)] : kOutside;
+    if (!(s > below && s >= above)) continue;
+    const DisparityCandidate candidate{static_cast<float>(d * scale), s};
+    int at = out.count;
+    while (at > 0 && out.candidates[static_cast<std::size_t>(at - 1)].score < s) --at;
+    if (at >= DisparityScanResult::kMaxCandidates) continue;
+    const int last = std::min(out.count, DisparityScanResult::kMaxCandidates - 1);
+    for (int i = last; i > at; --i) {
+      out.candidates[static_cast<std::size_t>(i)] = out.candidates[static_cast<std::size_t>(i - 1)];
+    }
+    out.candidates[static_cast<std::size_t>(at)] = candidate;
+    out.count = std::min(out.count + 1, DisparityScanResult::kMaxCandidates);
+  }
+}
+
+}  // namespace cambio::perception

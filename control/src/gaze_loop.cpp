@@ -177,6 +177,8 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         mode_ = Mode::kFixate;
         vergence_rad_ = saccade_end_vergence_rad_;
         verged_ = false;
+        pending_jump_rad_ = 0.0;
+        vergence_blind_until_ns_ = now_ns;
       }
       break;
     }
@@ -313,7 +315,7 @@ void GazeLoop::start_saccade(std::int64_t now_ns) noexcept {
   saccade_end_vergence_rad_ = vergence_rad_;
   const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
   const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
-  if (params_.predictive_vergence && target_W_.w() == 1.0) {
+  if (params_.predictive_vergence && command_.target.kind == GazeTargetKind::kPoint) {
     // The vergence the target's depth needs at the end pose: turn the verging eye's axis onto it.
     (void)believed_kinematics_.update(q_scratch_tree_);  // Restored by the next update_belief().
     const Eigen::Isometry3d& X_WV =
@@ -361,7 +363,8 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const auto& disparity = summary.disparity;
   const double d_px = static_cast<double>(disparity.disparity_px);
   if (!disparity.valid || !std::isfinite(d_px) ||
-      static_cast<double>(disparity.confidence) < params_.vergence.min_confidence) {
+      static_cast<double>(disparity.confidence) < params_.vergence.min_confidence ||
+      summary.stamp_ns < vergence_blind_until_ns_) {
     return;
   }
   // The angle the verging eye must still turn (sign as applied to its pan).

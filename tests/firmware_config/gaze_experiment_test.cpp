@@ -102,7 +102,7 @@ TEST_F(GazeExperiment, EveryKeyIsParsed) {
       "    neck_rule_deg: 20\n"
       "    default_depth_m: 1.5\n"
       "    vergence: {enabled: false, gain: 0.25, min_confidence: 0.4, max_step_deg: 2}\n"
-      "    saccade: {predictive_vergence: true}\n"
+      "    saccade: {predictive_vergence: false}\n"
       "    pursuit: {position_gain: 3.0, velocity_gain: 0.5}\n"
       "  commands:\n"
       "    - {at_s: 0.0, fixate: {object: sphere}}\n"
@@ -131,7 +131,7 @@ TEST_F(GazeExperiment, EveryKeyIsParsed) {
   EXPECT_EQ(gaze.vergence.gain, 0.25);
   EXPECT_EQ(gaze.vergence.min_confidence, 0.4);
   EXPECT_DOUBLE_EQ(gaze.vergence.max_step_rad, std::numbers::pi / 90);
-  EXPECT_TRUE(gaze.saccade.predictive_vergence);
+  EXPECT_FALSE(gaze.saccade.predictive_vergence);
   EXPECT_EQ(gaze.pursuit.position_gain_per_s, 3.0);
   EXPECT_EQ(gaze.pursuit.velocity_gain, 0.5);
 
@@ -203,7 +203,7 @@ TEST_F(GazeExperiment, KeysLeftOutTakeThePlansDefaults) {
   EXPECT_EQ(gaze.vergence.gain, 0.5);
   EXPECT_EQ(gaze.vergence.min_confidence, 0.3);
   EXPECT_EQ(gaze.vergence.max_step_rad, 0.05);
-  EXPECT_FALSE(gaze.saccade.predictive_vergence);
+  EXPECT_TRUE(gaze.saccade.predictive_vergence);
   EXPECT_EQ(gaze.pursuit.position_gain_per_s, 4.0);
   EXPECT_EQ(gaze.pursuit.velocity_gain, 1.0);
   ASSERT_EQ(config.commands.size(), 1u);

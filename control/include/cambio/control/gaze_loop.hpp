@@ -32,7 +32,8 @@ struct GazeLoopParams {
   /// The verging eye (the other one), its focal length, gain, confidence floor, largest step.
   VergenceParams vergence;
   bool vergence_enabled = true;
-  /// At a saccade to a 3-D point, set the vergence its geometry needs instead of keeping it.
+  /// At a saccade to a 3-D point (not a pixel or a direction, whose depth is a guess), set the
+  /// vergence its geometry needs instead of keeping it; vision refines it after the saccade.
   bool predictive_vergence = false;
   /// Pursuit: the servo's gain while pursuing (1/s), and how far ahead the target is
   /// extrapolated, as a fraction of the law's time constant 1/gain (1: a target moving at constant
@@ -165,6 +166,9 @@ class GazeLoop final : public hal::Loop {
   std::array<double, 5> saccade_q_{}, saccade_qdot_{};
   std::int64_t saccade_start_ns_ = 0;
   double saccade_end_vergence_rad_ = 0.0;
+  /// Images exposed before this time (the end of the last saccade) saw the eyes moving fast:
+  /// their disparities belong to no pose the loop can correct from, and are not used.
+  std::int64_t vergence_blind_until_ns_ = 0;
 
   std::array<CameraPoseSample, 64> camera_poses_{};  // Believed dominant orientation history.
   std::size_t camera_pose_next_ = 0;

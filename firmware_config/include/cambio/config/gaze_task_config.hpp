@@ -28,9 +28,10 @@ struct GazeVergenceConfig {
 
 /// `gaze.saccade`.
 struct GazeSaccadeConfig {
-  /// Set the verging eye from the target's depth during the saccade, instead of moving it
-  /// conjugately and re-verging once the dominant eye stops (the paper's behaviour).
-  bool predictive_vergence = false;
+  /// For a saccade to a 3-D target (an object or a point), set the verging eye from the target's
+  /// depth during the saccade, then refine it by vision; false: move it conjugately and re-verge
+  /// once the dominant eye stops (the paper's behaviour, slow across depths).
+  bool predictive_vergence = true;
 };
 
 /// `gaze.pursuit` (keys `position_gain`, `velocity_gain`).

@@ -15,6 +15,7 @@ int run_perceive_command(std::span<const std::string> args);
 int run_perception_bench_command(std::span<const std::string> args);
 int run_virtual_rig_command(std::span<const std::string> args);
 int run_can_bench_command(std::span<const std::string> args);
+int run_gaze_bench_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
@@ -37,6 +38,8 @@ std::span<const Command> all_commands() {
               &run_virtual_rig_command},
       Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",
               &run_can_bench_command},
+      Command{"gaze-bench", "score the gaze behaviour on generated scenes against the sim's truth",
+              &run_gaze_bench_command},
   };
   return kCommands;
 }

@@ -140,6 +140,7 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
       out = trial;
     }
   }
+  out.candidates = scan->count;
   // The runner-up is the best hypothesis of another disparity: candidates that refined to the
   // winner's (neighbouring maxima of one textured surface) are the same hypothesis.
   for (int i = 0; i < scan->count; ++i) {

@@ -303,6 +303,26 @@ int run_perception_bench_command(std::span<const std::string> args) {
     return values[values.size() / 2];
   };
   const double memcpy_us = median(memcpy_round_us);
+
+  // The paper's SSM with the whole-range disparity scan, as a run on the shipped head uses it
+  // (the range f b / 0.3 m), alternated round by round with the paper's SSM without it.
+  constexpr double kShippedHeadFocal_px = 554.256;
+  constexpr double kShippedHeadBaseline_m = 0.12;
+  perception::SsmConfig paper_scan = paper;
+  paper_scan.disparity.scan_range_px =
+      perception::largest_disparity_px(kShippedHeadFocal_px, kShippedHeadBaseline_m);
+  SsmRun scan_run(paper_scan, left, right);
+  std::vector<double> paper_round_us;
+  std::vector<double> scan_round_us;
+  std::vector<double> scan_ratios;
+  for (int round = 0; round < kRounds; ++round) {
+    const double paper_us = median_us(per_round, [&] { (void)paper_run.run(); });
+    const double scan_us = median_us(per_round, [&] { (void)scan_run.run(); });
+    paper_round_us.push_back(paper_us);
+    scan_round_us.push_back(scan_us);
+    scan_ratios.push_back(scan_us / paper_us);
+  }
+  const double scan_disparity_us = scan_run.frame().summary.timings.disparity_us;
   const double paper_vs_memcpy = median(ratios);
 
   FullImageFilter full(paper.operators);
@@ -363,6 +383,13 @@ int run_perception_bench_command(std::span<const std::string> args) {
         {"ssm_paper_disparity_px", as_printed(ssm_paper.disparity_px, "%.3f")},
         {"ssm_fovea_only_disparity_px", as_printed(ssm_fovea_only.disparity_px, "%.3f")},
         {"ssm_64_disparity_px", as_printed(ssm_64.disparity_px, "%.3f")},
+        {"ssm_paper_scan_us", as_printed(median(scan_round_us), "%.2f")},
+        {"ssm_paper_in_scan_rounds_us", as_printed(median(paper_round_us), "%.2f")},
+        {"ssm_paper_scan_over_ssm_paper", as_printed(median(scan_ratios), "%.2f")},
+        {"ssm_paper_scan_disparity_part_us", as_printed(scan_disparity_us, "%.2f")},
+        {"ssm_paper_scan_range_px", as_printed(paper_scan.disparity.scan_range_px, "%.1f")},
+        {"ssm_paper_scan_disparity_px",
+         as_printed(scan_run.frame().summary.disparity.disparity_px, "%.3f")},
         {"true_disparity_px", 3.3}};
     std::cout << json_text(figures);
     return kExitOk;
@@ -381,6 +408,10 @@ int run_perception_bench_command(std::span<const std::string> args) {
   print_ssm("SSM paper, fresh frames", ssm_paper_fresh);
   print_ssm("SSM paper (rgb8), fresh", ssm_paper_rgb_fresh);
   print_ssm("SSM 4 x 64 x 64 (fovea)", ssm_64);
+  std::printf(
+      "  SSM paper + disparity scan  %10.1f us   (+-%.0f px; %.2fx the paper SSM, median of %d "
+      "alternating rounds)\n",
+      median(scan_round_us), paper_scan.disparity.scan_range_px, median(scan_ratios), kRounds);
   std::printf("  memcpy of both images       %10.1f us   (median of %d rounds)\n", memcpy_us,
               kRounds);
   std::printf("  OpenCV full-image filters   %10.1f us   (same operator set, cv::sepFilter2D)\n",

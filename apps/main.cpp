@@ -1,5 +1,6 @@
 // `cambio`: the command-line front end. Dispatches to one subcommand per file.
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -46,6 +47,9 @@ int check_standard_output(const std::string& command, int status) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A reader that went away (`cambio ... | head`) is a failed write, checked like a full disk
+  // (exit 2 with the reason), not a silent death by SIGPIPE that skips a console's clean stop.
+  std::signal(SIGPIPE, SIG_IGN);
   if (argc < 2) {
     print_usage(std::cerr);
     return cambio::app::kExitBadInput;

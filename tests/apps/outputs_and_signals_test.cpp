@@ -4,6 +4,7 @@
 // records the stop.
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -149,6 +150,29 @@ TEST(Outputs, AFailedWriteToStandardOutputIsAnError) {
   result =
       run_in_shell("\"$CAMBIO\" loop-bench --rate-hz 100 --duration-s 0.05 --json 2>&1 >/dev/full");
   EXPECT_EQ(result.exit_code, 2) << result.output;
+}
+
+TEST(Outputs, AReaderThatWentAwayIsAFailedWriteNotADeathBySigpipe) {
+  // Standard output is a pipe whose read end is already closed: every write raises SIGPIPE.
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  ::close(fds[0]);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::dup2(fds[1], STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDERR_FILENO);
+    const std::string cambio = std::string(CAMBIO_BINARY_DIR) + "/bin/cambio";
+    const std::string rig = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/cambio.yaml";
+    ::execl(cambio.c_str(), cambio.c_str(), "check-config", rig.c_str(), nullptr);
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_FALSE(WIFSIGNALED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << "status " << status;
 }
 
 /// Starts a long run, waits until it has started (its handlers are installed), sends `signal`.

@@ -54,7 +54,16 @@ std::unique_ptr<Behaviour> BehaviourRegistry::make(std::string_view name,
     message += "; registered: " + (list.empty() ? std::string("none") : list);
     throw std::invalid_argument(message);
   }
-  std::unique_ptr<Behaviour> behaviour = it->second(params);
+  std::unique_ptr<Behaviour> behaviour;
+  try {
+    behaviour = it->second(params);
+  } catch (const std::exception&) {
+    throw;
+  } catch (...) {
+    // A plugin's factory may throw anything; nothing it throws may end the program.
+    throw std::invalid_argument("behaviour '" + std::string(name) +
+                                "': its factory threw something that is not a std::exception");
+  }
   if (!behaviour) {
     throw std::invalid_argument("behaviour '" + std::string(name) + "': its factory made nothing");
   }

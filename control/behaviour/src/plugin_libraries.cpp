@@ -53,6 +53,11 @@ void PluginLibraries::load(const std::string& path, BehaviourRegistry& registry)
     register_behaviours(added);
   } catch (const std::exception& error) {
     throw PluginError(where + ": registering its behaviours failed: " + error.what());
+  } catch (...) {
+    // A plugin may throw anything; nothing it throws may end the program.
+    throw PluginError(where +
+                      ": registering its behaviours failed: it threw something that is "
+                      "not a std::exception");
   }
   if (added.names().empty()) throw PluginError(where + ": registered no behaviour");
   for (const std::string& name : added.names()) {

@@ -71,6 +71,20 @@ TEST(PluginLibrariesTest, ARegistrationThatThrowsLeavesNothingBehind) {
   EXPECT_FALSE(registry.has("half_registered"));
 }
 
+TEST(PluginLibrariesTest, APluginThatThrowsSomethingElseThanAStdExceptionIsRefusedNotFatal) {
+  PluginLibraries plugins;
+  BehaviourRegistry registry;
+  std::string message = what_of([&] { plugins.load(CAMBIO_TEST_PLUGIN_THROWS_NON_STD, registry); });
+  EXPECT_NE(message.find("registering its behaviours failed"), std::string::npos) << message;
+  EXPECT_FALSE(registry.has("half_registered"));
+
+  plugins.load(CAMBIO_TEST_PLUGIN_FACTORY_THROWS_NON_STD, registry);
+  ASSERT_TRUE(registry.has("throws_when_made"));
+  BehaviourParams params;
+  message = what_of([&] { (void)registry.make("throws_when_made", params); });
+  EXPECT_NE(message.find("its factory threw"), std::string::npos) << message;
+}
+
 TEST(PluginLibrariesTest, ANameAlreadyTakenIsRefused) {
   PluginLibraries plugins;
   BehaviourRegistry registry;

@@ -44,6 +44,13 @@ CAMBIO_BEHAVIOUR_PLUGIN(registry) {
   registry.add("half_registered",
                [](cambio::behaviour::BehaviourParams&) { return std::make_unique<Counting>(1); });
   throw std::runtime_error("this plugin refuses to register");
+#elif defined(CAMBIO_TEST_PLUGIN_THROWS_NON_STD)
+  registry.add("half_registered",
+               [](cambio::behaviour::BehaviourParams&) { return std::make_unique<Counting>(1); });
+  throw 42;  // Not a std::exception: C++ lets a plugin throw anything.
+#elif defined(CAMBIO_TEST_PLUGIN_FACTORY_THROWS_NON_STD)
+  registry.add("throws_when_made",
+               [](cambio::behaviour::BehaviourParams&) -> std::unique_ptr<Counting> { throw 42; });
 #else
   registry.add("counting", [](cambio::behaviour::BehaviourParams& params) {
     return std::make_unique<Counting>(static_cast<int>(params.integer("every", 2)));

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "argument_parser.hpp"
+#include "bounded_line.hpp"
 #include "builtin_backends.hpp"
 #include "cambio/config/echoed_text.hpp"
 #include "command.hpp"
@@ -63,9 +64,10 @@ class TerminalLines {
       }
       std::cout << kPrompt << std::flush;
       std::string line;
-      const bool got = static_cast<bool>(std::getline(std::cin, line));
+      const LineRead got = read_bounded_line(std::cin, line);
       std::lock_guard lock(mutex_);
-      if (!got) {
+      if (got != LineRead::kLine) {
+        too_long_ = got == LineRead::kTooLong;
         eof_ = true;
         return;
       }
@@ -77,6 +79,16 @@ class TerminalLines {
   std::condition_variable wanted_;
   bool want_ = true;
   bool eof_ = false;
+
+ public:
+  /// Input ended on a line longer than kMaxInputLineChars.
+  bool too_long() {
+    std::lock_guard lock(mutex_);
+    return too_long_;
+  }
+
+ private:
+  bool too_long_ = false;
   std::deque<std::string> lines_;
   std::thread reader_;
 };
@@ -91,9 +103,16 @@ class LineSource {
   bool interactive() const { return terminal_.has_value(); }
   /// nullopt with `eof` false: nothing typed yet (terminal only).
   std::optional<std::string> next(bool& eof) {
-    if (terminal_) return terminal_->try_pop(eof);
+    if (terminal_) {
+      std::optional<std::string> line = terminal_->try_pop(eof);
+      if (eof && terminal_->too_long()) report_too_long();
+      return line;
+    }
     std::string line;
-    eof = !std::getline(std::cin, line);
+    const LineRead got = read_bounded_line(std::cin, line);
+    ++line_number_;
+    eof = got != LineRead::kLine;
+    if (got == LineRead::kTooLong) report_too_long();
     if (eof) return std::nullopt;
     std::cout << kPrompt << line << "\n";  // The transcript shows what was carried out.
     return line;
@@ -101,9 +120,21 @@ class LineSource {
   void done_with_line() {
     if (terminal_) terminal_->ready();
   }
+  /// Input was refused (a line too long): the session ends there, and the command exits 2.
+  bool input_refused() const { return input_refused_; }
 
  private:
+  void report_too_long() {
+    if (input_refused_) return;
+    input_refused_ = true;
+    std::cerr << "cambio console: input line " << (terminal_ ? 0 : line_number_)
+              << " is longer than " << kMaxInputLineChars
+              << " characters: not console commands; stopping the robot and the session\n";
+  }
+
   std::optional<TerminalLines> terminal_;
+  int line_number_ = 0;
+  bool input_refused_ = false;
 };
 
 struct ConsoleRun {
@@ -321,7 +352,7 @@ int run_console_command(std::span<const std::string> args) {
     std::cerr << "cambio console: a device fault stopped the robot (joints held since)\n";
     return kExitDeviceFault;
   }
-  return kExitOk;
+  return lines.input_refused() ? kExitBadInput : kExitOk;
 }
 
 }  // namespace cambio::app

@@ -2,6 +2,7 @@
 // [--seed N] [--duration-s S]`: emulates one CiA 402 drive per CAN joint of the rig on the
 // interfaces its can_buses name, until SIGINT/SIGTERM or the duration.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -10,7 +11,9 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "bounded_line.hpp"
 #include "cambio/can/socketcan_bus.hpp"
+#include "cambio/config/echoed_text.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/virtual_rig/virtual_rig.hpp"
@@ -33,11 +36,25 @@ std::unique_ptr<hal::CanBus> open_socketcan_bus(const hal::CanBusInfo& info) {
 
 /// Fault specifications from a file, one per line; blank lines and # comments are skipped.
 std::vector<virtual_rig::FaultInjection> read_fault_file(const std::string& path) {
+  // A directory, a FIFO or a device (/dev/zero) is no list of faults.
+  std::error_code status_error;
+  if (!std::filesystem::is_regular_file(path, status_error)) {
+    throw UsageError("virtual-rig: --fault-file " + config::echoed(path) +
+                     ": not a regular file (a list of fault specifications, one per line)");
+  }
   std::ifstream in(path);
-  if (!in) throw UsageError("virtual-rig: --fault-file " + path + ": cannot be read");
+  if (!in)
+    throw UsageError("virtual-rig: --fault-file " + config::echoed(path) + ": cannot be read");
   std::vector<virtual_rig::FaultInjection> faults;
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
+  for (int number = 1;; ++number) {
+    const LineRead got = read_bounded_line(in, line);
+    if (got == LineRead::kEnd) break;
+    if (got == LineRead::kTooLong) {
+      throw UsageError("virtual-rig: " + config::echoed(path) + ":" + std::to_string(number) +
+                       ": longer than " + std::to_string(kMaxInputLineChars) +
+                       " characters: not a fault specification");
+    }
     const std::size_t hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     const std::size_t first = line.find_first_not_of(" \t\r");

@@ -181,5 +181,22 @@ TEST(BadInputTest, RenderRefusesAnOutputDirectoryItCannotWriteBeforeAnyWork) {
                      "'" + (blocker / "below").string() + "': cannot create"}});
 }
 
+// Lines have a length limit and a fault file is a regular file: before, `console < /dev/zero`
+// grew to 4.1 GB and exited 0, `--fault-file /dev/zero` to 2.1 GB and injected nothing, and a
+// directory as --fault-file exited 0.
+TEST(BadInputTest, EndlessLinesAndFaultFilesThatAreNoFilesAreRefused) {
+  const std::filesystem::path long_line =
+      std::filesystem::temp_directory_path() / "cambio_bad_input_long_line.faults";
+  std::ofstream(long_line) << std::string(5000, 'x') << "\n";
+  expect_bad_input({
+      {"virtual-rig --config pan_tilt --fault-file /tmp", "not a regular file"},
+      {"virtual-rig --config pan_tilt --fault-file /dev/zero", "not a regular file"},
+      {"virtual-rig --config pan_tilt --fault-file '" + long_line.string() + "'",
+       ":1: longer than 4096 characters"},
+      {"console firmware_config/experiments/vergence_sphere.yaml --rtf 0 < /dev/zero",
+       "input line 1 is longer than 4096 characters"},
+  });
+}
+
 }  // namespace
 }  // namespace cambio

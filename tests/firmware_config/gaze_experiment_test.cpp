@@ -288,7 +288,7 @@ TEST_F(GazeExperiment, EveryShippedGazeExperimentLoadsWithItsTargets) {
       EXPECT_EQ(command.target.point_W_m[1], object->pose.xyz_m[1]) << entry.path();
     }
   }
-  EXPECT_EQ(gaze_experiments, 8);
+  EXPECT_EQ(gaze_experiments, 9);
 }
 
 // ---------------------------------------------------------------------------------------------

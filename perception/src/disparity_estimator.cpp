@@ -119,8 +119,8 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
     trial.level = scan->level;
     descend(left, right, left_retina, right_retina, scan->level - 1, true, candidate.disparity_px,
             scan->scale_px, trial, shifted);
-    float key = candidate.score;
-    float weight = 1.0f;
+    float key = candidate.score + candidate.context_score;
+    float weight = 2.0f;
     float texture = scan->texture_rms;
     for (int k = scan->level - 1; k >= 0; --k) {
       const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];

@@ -45,7 +45,10 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
   }
   const int scale = 1 << level_;
   range_ = static_cast<int>(std::ceil(disparity.scan_range_px / scale));
-  strip_width_ = width_ + 2 * range_;
+  context_half_ = 2 * half_;
+  context_half_y_ = std::min(context_half_, (height_ - 1) / 2);
+  context_width_ = 2 * context_half_ + 2;
+  strip_width_ = std::max(width_, context_width_) + 2 * range_;
 
   int apron = 0;
   const auto& specs = bank.maps();
@@ -66,6 +69,12 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
   strip_bank_ = std::make_unique<OperatorBank>(operators, strip_width_, height_);
   strip_maps_.assign(static_cast<std::size_t>(strip_bank_->map_count()) * strip_width_ * height_,
                      0.0f);
+  RetinaConfig context_config = strip_config;
+  context_config.width_px = context_width_;
+  left_context_ = std::make_unique<Retina>(context_config, apron, image_width_px, image_height_px);
+  context_bank_ = std::make_unique<OperatorBank>(operators, context_width_, height_);
+  context_maps_.assign(
+      static_cast<std::size_t>(context_bank_->map_count()) * context_width_ * height_, 0.0f);
   scores_.assign(static_cast<std::size_t>(2 * range_ + 1), 0.0f);
   enabled_ = true;
 }
@@ -104,15 +113,56 @@ float DisparityScan::score(const float* left_level, int shift) const noexcept {
   return denominator > 0.0 ? static_cast<float>(cross / denominator) : 0.0f;
 }
 
-void DisparityScan::scan(const FeatureMaps& left, const hal::Image& right,
+float DisparityScan::context_score(int shift) const noexcept {
+  const int cx = context_width_ / 2;
+  const int cy = height_ / 2;
+  const int sx = strip_width_ / 2 - shift;
+  const int w = 2 * context_half_ + 1;
+  const int n = w * (2 * context_half_y_ + 1);
+  double cross = 0.0, left_energy = 0.0, right_energy = 0.0;
+  for (const int f : features_) {
+    const float* l =
+        context_maps_.data() + static_cast<std::ptrdiff_t>(f) * context_width_ * height_;
+    const float* r = strip_maps_.data() + static_cast<std::ptrdiff_t>(f) * strip_width_ * height_;
+    float sl = 0.0f, sr = 0.0f, sll = 0.0f, srr = 0.0f, slr = 0.0f;
+    for (int y = cy - context_half_y_; y <= cy + context_half_y_; ++y) {
+      const float* lr = l + y * context_width_ + cx - context_half_;
+      const float* rr = r + y * strip_width_ + sx - context_half_;
+      for (int x = 0; x < w; ++x) {
+        sl += lr[x];
+        sr += rr[x];
+        sll += lr[x] * lr[x];
+        srr += rr[x] * rr[x];
+        slr += lr[x] * rr[x];
+      }
+    }
+    cross += static_cast<double>(slr) - static_cast<double>(sl) * sr / n;
+    left_energy += static_cast<double>(sll) - static_cast<double>(sl) * sl / n;
+    right_energy += static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
+  }
+  const double denominator = std::sqrt(std::max(left_energy, 0.0) * std::max(right_energy, 0.0));
+  return denominator > 0.0 ? static_cast<float>(cross / denominator) : 0.0f;
+}
+
+bool DisparityScan::inside(const RetinaLevelView& strip, int shift, int half) const noexcept {
+  const int first = strip_width_ / 2 - shift - half;
+  const double left_px = strip.origin_x_px + static_cast<double>(first) * strip.scale_px;
+  const double right_px = left_px + static_cast<double>(2 * half + 1) * strip.scale_px;
+  return left_px >= 0.0 && right_px <= static_cast<double>(image_width_);
+}
+
+void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
+                         PixelPoint left_fixation, const hal::Image& right,
                          PixelPoint right_fixation, DisparityScanResult& out) noexcept {
   out = DisparityScanResult{};
-  if (!enabled_ || strip_->build_one_level(right, level_, right_fixation) != hal::Status::kOk) {
+  if (!enabled_ || strip_->build_one_level(right, level_, right_fixation) != hal::Status::kOk ||
+      left_context_->build_one_level(left_image, level_, left_fixation) != hal::Status::kOk) {
     return;
   }
   const RetinaLevelView strip = strip_->level(level_);
   // Only the features' families are computed; the bank writes map i at plane i.
   strip_bank_->apply(strip, required_, strip_maps_.data());
+  context_bank_->apply(left_context_->level(level_), required_, context_maps_.data());
   const int scale = strip.scale_px;
   out.searched = true;
   out.level = level_;
@@ -141,16 +191,10 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& right,
 
   // Shifts whose right window lies wholly inside the image: beyond it the strip replicates the
   // edge, which can correlate with anything.
-  const auto inside = [&](int shift) {
-    const int first = strip_width_ / 2 - shift - half_;
-    const double left_px = strip.origin_x_px + static_cast<double>(first) * scale;
-    const double right_px = left_px + static_cast<double>(2 * half_ + 1) * scale;
-    return left_px >= 0.0 && right_px <= static_cast<double>(image_width_);
-  };
   constexpr float kOutside = -2.0f;
   for (int d = -range_; d <= range_; ++d) {
     float& s = scores_[static_cast<std::size_t>(d + range_)];
-    s = inside(d) ? score(left_level, d) : kOutside;
+    s = inside(strip, d, half_) ? score(left_level, d) : kOutside;
     if (s > kOutside) ++out.shifts;
   }
   // Local maxima (ties resolved toward the lower shift), best first; the range's ends only if
@@ -161,7 +205,15 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& right,
     const float below = d > -range_ ? scores_[static_cast<std::size_t>(d - 1 + range_)] : kOutside;
     const float above = d < range_ ? scores_[static_cast<std::size_t>(d + 1 + range_)] : kOutside;
     if (!(s > below && s >= above)) continue;
-    const DisparityCandidate candidate{static_cast<float>(d * scale), s};
+    // The context at the peak and its neighbours (the peak is on the scan's block grid); a
+    // context window past the image's edge says nothing either way.
+    float context = s;
+    if (inside(strip, d, context_half_)) {
+      context = context_score(d);
+      if (d > -range_) context = std::max(context, context_score(d - 1));
+      if (d < range_) context = std::max(context, context_score(d + 1));
+    }
+    const DisparityCandidate candidate{static_cast<float>(d * scale), s, context};
     int at = out.count;
     while (at > 0 && out.candidates[static_cast<std::size_t>(at - 1)].score < s) --at;
     if (at >= DisparityScanResult::kMaxCandidates) continue;

@@ -127,7 +127,9 @@ hal::Status SensoryServo::process(const hal::Image& left, const hal::Image& righ
   if (request.disparity && config_.disparity.enabled) {
     shifted_right_->prepare(right, right_fixation);
     const bool scanned = scan_->enabled();
-    if (scanned) scan_->scan(out.maps[0], right, right_fixation, scan_result_);
+    if (scanned) {
+      scan_->scan(out.maps[0], left, left_fixation, right, right_fixation, scan_result_);
+    }
     disparity_.estimate(out.maps[0], out.maps[1], *retinas_[0], *retinas_[1], summary.disparity,
                         shifted_right_.get(), scanned ? &scan_result_ : nullptr);
   }

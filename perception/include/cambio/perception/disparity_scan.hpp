@@ -16,6 +16,9 @@ namespace cambio::perception {
 struct DisparityCandidate {
   float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px (a whole number of scan blocks).
   float score = 0.0f;         ///< ZNCC at the scan level.
+  /// ZNCC of a window twice as wide (the fixated object with its outline and surround) at this
+  /// disparity: what tells apart the alike peaks of a periodic texture.
+  float context_score = 0.0f;
 };
 
 /// What a scan found, best candidate first.
@@ -43,8 +46,13 @@ struct DisparityScanResult {
 /// keeps the one the fixated patch agrees with (several hypotheses, as population codes of
 /// disparity-tuned units keep several, instead of one coarse guess).
 ///
-/// Cost: one strip level (width + 2 scan_range / scale samples) and its features, then one
-/// ZNCC per shift. Allocates in the constructor only; scan() is real-time safe.
+/// A periodic texture (stripes, a checkerboard) gives several alike peaks; for each candidate
+/// the scan also scores a context window twice as wide, whose view of the object's outline and
+/// surround matches at the true disparity only.
+///
+/// Cost: one strip level (width + 2 scan_range / scale samples) and its features, a left level
+/// as wide as the context window, then one ZNCC per shift. Allocates in the constructor only;
+/// scan() is real-time safe.
 class DisparityScan {
  public:
   /// `bank` is the SSM's operator bank (the maps are looked up by the disparity features' names);
@@ -60,11 +68,15 @@ class DisparityScan {
 
   /// Scores the left retina's window at level() (`left`, the SSM's left feature maps) against
   /// the right image around `right_fixation`. Real-time safe; not thread-safe.
-  void scan(const FeatureMaps& left, const hal::Image& right, PixelPoint right_fixation,
-            DisparityScanResult& out) noexcept;
+  void scan(const FeatureMaps& left, const hal::Image& left_image, PixelPoint left_fixation,
+            const hal::Image& right, PixelPoint right_fixation, DisparityScanResult& out) noexcept;
 
  private:
   float score(const float* left_level, int shift) const noexcept;
+  /// ZNCC of the context window (context_half_ x context_half_y_) at `shift`.
+  float context_score(int shift) const noexcept;
+  /// Whether the right window of half-width `half` at `shift` lies inside the image.
+  bool inside(const RetinaLevelView& strip, int shift, int half) const noexcept;
 
   bool enabled_ = false;
   int level_ = 0;
@@ -77,10 +89,16 @@ class DisparityScan {
   int image_width_ = 0;
   std::vector<int> features_;
   MapMask required_ = 0;
+  int context_half_ = 0;  ///< The context window's half-width (samples): twice the window's.
+  int context_half_y_ = 0;
+  int context_width_ = 0;  ///< The left context level's width.
   std::unique_ptr<Retina> strip_;
   std::unique_ptr<OperatorBank> strip_bank_;
   std::vector<float> strip_maps_;  ///< features x strip_width x height.
-  std::vector<float> scores_;      ///< Indexed by shift + range_.
+  std::unique_ptr<Retina> left_context_;
+  std::unique_ptr<OperatorBank> context_bank_;
+  std::vector<float> context_maps_;  ///< features x context_width x height.
+  std::vector<float> scores_;        ///< Indexed by shift + range_.
 };
 
 }  // namespace cambio::perception

@@ -178,6 +178,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         vergence_rad_ = saccade_end_vergence_rad_;
         verged_ = false;
         pending_jump_rad_ = 0.0;
+        weak_pending_ = false;
         vergence_blind_until_ns_ = now_ns;
       }
       break;
@@ -216,6 +217,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
   pending_jump_rad_ = 0.0;
+  weak_pending_ = false;
   ++status_.commands_applied;
   status_.action = command.action;
   switch (command.action) {
@@ -362,13 +364,29 @@ void GazeLoop::servo_step(double gain_scale, double dt_s) noexcept {
 void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const auto& disparity = summary.disparity;
   const double d_px = static_cast<double>(disparity.disparity_px);
-  if (!disparity.valid || !std::isfinite(d_px) ||
-      static_cast<double>(disparity.confidence) < params_.vergence.min_confidence ||
+  const double confidence = static_cast<double>(disparity.confidence);
+  const double floor = params_.vergence.min_confidence / 3.0;
+  if (!disparity.valid || !std::isfinite(d_px) || !(confidence >= floor) ||
       summary.stamp_ns < vergence_blind_until_ns_) {
     return;
   }
   // The angle the verging eye must still turn (sign as applied to its pan).
   const double error_rad = vergence_controller_.angular_error_rad(d_px);
+  if (confidence < params_.vergence.min_confidence) {
+    // A weak measurement is believed when the next one agrees with it, as it stands or less what
+    // the eye has turned since (the frame may predate the turn): two frames' noise rarely agrees
+    // on a disparity by chance. A periodic texture's alias can; the margin in the confidence
+    // keeps such measurements weak, not absent, and the jump rule below still applies.
+    const double tolerance = kWeakAgreementRad + 0.1 * std::abs(error_rad);
+    const bool agrees =
+        weak_pending_ &&
+        (std::abs(error_rad - weak_error_rad_) <= tolerance ||
+         std::abs(error_rad - (weak_error_rad_ - applied_since_weak_rad_)) <= tolerance);
+    weak_pending_ = true;
+    weak_error_rad_ = error_rad;
+    applied_since_weak_rad_ = 0.0;
+    if (!agrees) return;
+  }
   // Once verged, a sudden large error is believed only when the next measurement confirms it
   // (same direction, within a factor of two): an object crossing the line of sight, seen by the
   // SSM a frame or two late, must not drag the eyes off a target they still see.
@@ -391,6 +409,7 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
                                  params_.vergence.max_step_rad);
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
+  applied_since_weak_rad_ += step;
   ++corrections_;
 }
 

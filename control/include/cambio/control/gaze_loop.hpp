@@ -108,6 +108,8 @@ class GazeLoop final : public hal::Loop {
   /// second measurement to confirm it (see verge()).
   static constexpr double kVergedRad = 0.25 * std::numbers::pi / 180.0;
   static constexpr double kVergenceJumpRad = 1.0 * std::numbers::pi / 180.0;
+  /// Two weak measurements agree within this (plus a tenth of the error): about 2 px at 554 px.
+  static constexpr double kWeakAgreementRad = 0.2 * std::numbers::pi / 180.0;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
@@ -196,6 +198,11 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t held_jumps_ = 0;
   bool verged_ = false;            // The vergence error has been small since the last command.
   double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
+  // A measurement below min_confidence (but above a third of it) waiting for the next to agree;
+  // the vergence applied since it was measured, to compare like with like.
+  bool weak_pending_ = false;
+  double weak_error_rad_ = 0.0;
+  double applied_since_weak_rad_ = 0.0;
 };
 
 }  // namespace cambio::control

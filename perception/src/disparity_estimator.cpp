@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cambio/perception/window_zncc.hpp"
+
 namespace cambio::perception {
 
 DisparityEstimator::DisparityEstimator(const DisparityConfig& config, const OperatorBank& bank,
@@ -52,34 +54,9 @@ float DisparityEstimator::left_texture(const float* left) const noexcept {
 }
 
 float DisparityEstimator::score(const float* left, const float* right, int shift) const noexcept {
-  const int cx = width_ / 2;
-  const int cy = height_ / 2;
-  const int w = 2 * half_ + 1;
-  const int n = w * (2 * half_y_ + 1);
-  double cross = 0.0;
-  double left_energy = 0.0;
-  double right_energy = 0.0;
-  for (const int f : features_) {
-    const float* l = plane(left, f);
-    const float* r = plane(right, f);
-    float sl = 0.0f, sr = 0.0f, sll = 0.0f, srr = 0.0f, slr = 0.0f;
-    for (int y = cy - half_y_; y <= cy + half_y_; ++y) {
-      const float* lr = l + y * width_ + cx - half_;
-      const float* rr = r + y * width_ + cx - half_ - shift;  // x_right = x_left - d
-      for (int x = 0; x < w; ++x) {
-        sl += lr[x];
-        sr += rr[x];
-        sll += lr[x] * lr[x];
-        srr += rr[x] * rr[x];
-        slr += lr[x] * rr[x];
-      }
-    }
-    cross += static_cast<double>(slr) - static_cast<double>(sl) * sr / n;
-    left_energy += static_cast<double>(sll) - static_cast<double>(sl) * sl / n;
-    right_energy += static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
-  }
-  const double denominator = std::sqrt(std::max(left_energy, 0.0) * std::max(right_energy, 0.0));
-  return denominator > 0.0 ? static_cast<float>(cross / denominator) : 0.0f;
+  // x_right = x_left - d: the right window `shift` samples left of the centre.
+  return window_zncc(left, width_, width_ / 2, right, width_, width_ / 2 - shift, height_ / 2,
+                     height_, half_, half_y_, features_);
 }
 
 void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& right,

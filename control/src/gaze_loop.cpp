@@ -286,9 +286,15 @@ bool GazeLoop::resolve(const GazeTarget& target, Eigen::Vector4d& target_W) cons
   const double depth_m = depth_estimate_m();
   Eigen::Vector3d ray_W;
   switch (target.kind) {
-    case GazeTargetKind::kPoint:
+    case GazeTargetKind::kPoint: {
       target_W << target.point_W_m[0], target.point_W_m[1], target.point_W_m[2], 1.0;
-      return target_W.allFinite();
+      // Finite is not enough (1e300 squared is not): a point the eyes can turn to is within
+      // kMaxTargetDistance_m and not at the camera's centre. Whoever sent it (console, experiment,
+      // behaviour) gets a refused command; nothing non-finite reaches the servo's state.
+      const double distance_m = (target_W.head<3>() - X_WC.translation()).norm();
+      return target_W.allFinite() && distance_m <= kMaxTargetDistance_m &&
+             distance_m >= kMinTargetDistance_m;
+    }
     case GazeTargetKind::kPixel:
       ray_W = servo_->pixel_ray_W(q_believed_tree_, target.pixel_px[0], target.pixel_px[1]);
       break;

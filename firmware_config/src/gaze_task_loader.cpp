@@ -92,7 +92,11 @@ GazeTargetConfig read_target(MapReader& action, std::string_view action_key, boo
     }
   } else if (key == "point_m") {
     target.kind = GazeTargetKind::kPoint;
-    target.point_W_m = action.vector3("point_m");
+    // 1e300 is finite: a point is also within reach of meaning (a kilometre; beyond it every
+    // direction is the same for a head with a 12 cm baseline).
+    target.point_W_m = action.vector3(
+        "point_m", Range::closed(-1000.0, 1000.0)
+                       .because("a point the eyes can fixate, within a kilometre of the robot"));
   } else if (key == "pixel") {
     if (const auto pixel = read_pair(action, "pixel", "[u, v] in pixels", Range::non_negative())) {
       target.kind = GazeTargetKind::kPixel;

@@ -491,6 +491,24 @@ TEST(GazeLoop, AMovedHeadJointGoesWithinItsLimitsAndAnArmJointIsRefused) {
   EXPECT_EQ(head.q_deg("left_elbow"), elbow);
 }
 
+TEST(GazeLoop, AHugeFinitePointIsRefusedAndTheLoopStaysFinite) {
+  // 1e300 is finite; its squared distance is not. Before, the saccade's solve stored NaN and the
+  // head never moved again.
+  GazeHarness head;
+  head.build();
+  const std::uint64_t rejected = head.loop().rejected_commands();
+  for (const double far : {1e300, 1e160, 2000.0}) {
+    head.command(GazeAction::kSaccade, GazeHarness::point(Eigen::Vector3d(far, far, far)));
+    for (int i = 0; i < 20; ++i) head.step();
+  }
+  EXPECT_EQ(head.loop().rejected_commands(), rejected + 3);
+  const Eigen::Vector3d target(1.0, std::tan(10.0 * kDeg) * 0.96 + 0.06, 1.45);
+  head.command(GazeAction::kFixate, GazeHarness::point(target));
+  for (int i = 0; i < 600; ++i) head.step(&target);
+  EXPECT_TRUE(std::isfinite(head.status().vergence_rad));
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, target), 0.01) << "the head still obeys";
+}
+
 TEST(GazeLoop, VergenceSwitchesOffAndOnWithoutChangingWhatTheHeadDoes) {
   const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
   GazeHarness head;

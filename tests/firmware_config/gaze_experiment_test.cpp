@@ -322,6 +322,14 @@ TEST_F(GazeExperiment, TwoTargetsAreRefusedAtTheSecond) {
             "found object and pixel");
 }
 
+TEST_F(GazeExperiment, APointFarBeyondTheRobotIsRefused) {
+  // 1e300 is finite; before, the loader took it and the run's gaze loop stored NaN.
+  const auto found = issues("  commands: [{at_s: 0, saccade: {point_m: [1e300, 0, 1.4]}}]\n");
+  ASSERT_EQ(found.size(), 1u) << joined(found);
+  EXPECT_NE(found[0].find("experiment.commands[0].saccade.point_m"), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("within a kilometre of the robot"), std::string::npos) << found[0];
+}
+
 TEST_F(GazeExperiment, FixateAndSaccadeNeedATarget) {
   const auto found = issues(
       "  commands:\n"

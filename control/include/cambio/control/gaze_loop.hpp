@@ -108,6 +108,10 @@ class GazeLoop final : public hal::Loop {
   /// second measurement to confirm it (see verge()).
   static constexpr double kVergedRad = 0.25 * std::numbers::pi / 180.0;
   static constexpr double kVergenceJumpRad = 1.0 * std::numbers::pi / 180.0;
+  /// Point targets farther than this (all directions alike for a 12 cm baseline) or nearer than
+  /// kMinTargetDistance_m (no direction) are refused.
+  static constexpr double kMaxTargetDistance_m = 1000.0;
+  static constexpr double kMinTargetDistance_m = 0.01;
   /// Two weak measurements agree within this (plus a tenth of the error): about 2 px at 554 px.
   static constexpr double kWeakAgreementRad = 0.2 * std::numbers::pi / 180.0;
 

@@ -7,15 +7,16 @@
 #include <stdexcept>
 
 #include "cambio/behaviour/attention_behaviour.hpp"
-#include "cambio/canopen/socketcan_backend.hpp"
+#include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/control/joint_loop_plan.hpp"
 #include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/perception/perception_config.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
+#include "cambio/sim/ground_truth.hpp"
 #include "cambio/sim/mjcf_builder.hpp"
-#include "cambio/sim/sim_backend.hpp"
+#include "cambio/sim/rendered_views.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
 #include "robot_actions.hpp"
@@ -23,9 +24,21 @@
 namespace cambio::app {
 namespace {
 
-// Backends that drive real hardware: a run that uses one is paced by the wall clock.
-bool is_hardware_backend(const std::string& backend) {
-  return backend == "socketcan";
+// A run is paced by the wall clock when any device it uses is on a backend that drives real
+// devices.
+bool uses_wall_clock_backend(const hal::HardwareInfo& hardware,
+                             const hal::BackendFactory& factory) {
+  bool paced = false;
+  for (const auto& group : hardware.groups) {
+    paced |= factory.traits(group.backend).paced_by_wall_clock;
+  }
+  for (const auto& camera : hardware.cameras) {
+    paced |= factory.traits(camera.backend).paced_by_wall_clock;
+  }
+  for (const auto& sensor : hardware.touch_sensors) {
+    paced |= factory.traits(sensor.backend).paced_by_wall_clock;
+  }
+  return paced;
 }
 
 std::size_t camera_index(const hal::HardwareInfo& hardware, const std::string& name) {
@@ -42,15 +55,16 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
     : experiment_(experiment),
       options_(options),
       hardware_(config::hardware_description(experiment.rig)) {
-  bool on_hardware = false;
-  for (const auto& group : hardware_.groups) on_hardware |= is_hardware_backend(group.backend);
-  realtime_ = on_hardware || experiment_.executor == config::ExecutorKind::kRealtime;
+  realtime_ = uses_wall_clock_backend(hardware_, factory) ||
+              experiment_.executor == config::ExecutorKind::kRealtime;
   if (realtime_) {
     executor_ = std::make_unique<runtime::RealtimeExecutor>(
         std::vector<runtime::ScheduledLoop>{},
         runtime::RealtimeOptions{experiment_.rig.runtime.lock_memory, true});
   } else {
-    executor_ = std::make_unique<runtime::LockstepExecutor>();
+    auto lockstep = std::make_unique<runtime::LockstepExecutor>();
+    lockstep_ = lockstep.get();
+    executor_ = std::move(lockstep);
   }
   build_backends(factory);
   build_loops();
@@ -78,20 +92,21 @@ void MainJob::build_backends(const hal::BackendFactory& factory) {
   }
   if (backends_.empty()) throw std::runtime_error("the rig names no joint group and no camera");
 
-  // The sim models the whole robot: a group another backend drives is followed there, so the
-  // sim's cameras see what the drives did.
-  const auto sim = backends_.find("sim");
-  for (std::size_t g = 0; g < groups_.size(); ++g) {
-    hal::JointGroup* driven = groups_[g].get();
-    if (sim != backends_.end() && hardware_.groups[g].backend != "sim") {
-      taps_.push_back(std::make_unique<hal::JointStateTap>(*groups_[g]));
-      sim->second->follow_group(hardware_.groups[g], *taps_.back());
-      driven = taps_.back().get();
+  // A backend that models the whole robot (the sim) follows every group another backend
+  // drives, so its cameras see what those drives did.
+  for (auto& group : groups_) driven_groups_.push_back(group.get());
+  for (auto& [follower_name, follower] : backends_) {
+    if (!follower->follows_other_backends()) continue;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      if (hardware_.groups[g].backend == follower_name) continue;
+      taps_.push_back(std::make_unique<hal::JointStateTap>(*driven_groups_[g]));
+      follower->follow_group(hardware_.groups[g], *taps_.back());
+      driven_groups_[g] = taps_.back().get();
     }
-    driven_groups_.push_back(driven);
   }
   if (experiment_.task == config::ControlTask::kGaze) make_touch_sensors();
   for (auto& [name, backend] : backends_) backend->configure();
+  for (auto& [name, backend] : backends_) backend->offer(offers_);
 }
 
 void MainJob::make_touch_sensors() {
@@ -308,10 +323,9 @@ void MainJob::build_behaviour(const perception::SsmConfig& ssm) {
 }
 
 void MainJob::build_trace() {
-  // The trace needs the simulator's ground truth and something to look with.
-  const auto sim = backends_.find("sim");
-  if (!options_.record_trace || sim == backends_.end() || !hardware_.stereo || !perception_loop_)
-    return;
+  // The trace needs the world's ground truth (a simulator's) and something to look with.
+  sim::GroundTruth* truth = ground_truth();
+  if (!options_.record_trace || truth == nullptr || !hardware_.stereo || !perception_loop_) return;
   hal::Eye dominant = hal::Eye::kLeft;
   if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
   const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
@@ -325,7 +339,7 @@ void MainJob::build_trace() {
     sources.believed.push_back({slot.states.get(), slot.rig_indices});
   sources.gaze = gaze_loop_ != nullptr ? &gaze_loop_->status() : nullptr;
   sources.ssm = &perception_loop_->summaries();
-  sources.truth = &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
+  sources.truth = truth;
   sources.dominant_camera = camera_of(dominant).name;
   sources.verging_camera = camera_of(hal::other(dominant)).name;
   sources.verging_focal_px = camera_of(hal::other(dominant)).intrinsics.focal_x_px;
@@ -416,7 +430,7 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
 
 MainJobResult MainJob::run_stepped(const std::atomic<bool>& stop,
                                    const std::function<std::int64_t(std::int64_t)>& next_stop_ns) {
-  auto* lockstep = dynamic_cast<runtime::LockstepExecutor*>(executor_.get());
+  runtime::LockstepExecutor* lockstep = lockstep_;
   if (lockstep == nullptr) {
     throw std::logic_error("a stepped run needs the lockstep executor");
   }
@@ -457,9 +471,7 @@ control::BelievedJoints MainJob::make_believed_joints() const {
 }
 
 sim::GroundTruth* MainJob::ground_truth() {
-  const auto sim = backends_.find("sim");
-  if (sim == backends_.end()) return nullptr;
-  return &static_cast<sim::SimBackend&>(*sim->second).ground_truth();
+  return offers_.find<sim::GroundTruth>();
 }
 
 void MainJob::collect(MainJobResult& result) {
@@ -511,10 +523,10 @@ void MainJob::collect(MainJobResult& result) {
       result.arm_present[static_cast<std::size_t>(side)] = arm_loop_->arm(side) != nullptr;
     }
   }
-  if (const auto it = backends_.find(canopen::SocketCanBackend::kName); it != backends_.end()) {
-    const auto& can_backend = static_cast<const canopen::SocketCanBackend&>(*it->second);
-    for (const auto& group : hardware_.groups) {
-      if (const canopen::CanJointGroup* can_group = can_backend.group(group.name)) {
+  const auto can_groups = offers_.all<const canopen::CanJointGroup>();
+  for (const auto& group : hardware_.groups) {  // Rig order.
+    for (const canopen::CanJointGroup* can_group : can_groups) {
+      if (can_group->info().name == group.name) {
         result.can_groups.push_back({group.name, can_group->counters()});
       }
     }
@@ -523,12 +535,10 @@ void MainJob::collect(MainJobResult& result) {
 }
 
 std::optional<sim::RendererDescription> MainJob::renderer() const {
-  const auto sim = backends_.find("sim");
-  if (sim == backends_.end()) return std::nullopt;
-  const sim::Renderer* renderer =
-      static_cast<const sim::SimBackend&>(*sim->second).renderer_if_made();
-  if (renderer == nullptr) return std::nullopt;
-  return renderer->description();
+  for (const sim::RenderedViews* views : offers_.all<sim::RenderedViews>()) {
+    if (auto description = views->renderer()) return description;
+  }
+  return std::nullopt;
 }
 
 std::vector<hal::Image> MainJob::last_frames() {
@@ -549,21 +559,17 @@ std::vector<hal::Image> MainJob::last_frames() {
   }
   std::vector<hal::Image> images;
   images.reserve(frames.size());
-  const auto sim = backends_.find("sim");
+  const auto renderers = offers_.all<sim::RenderedViews>();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     images.push_back(*frames[i]);
-    const hal::CameraInfo& camera = hardware_.cameras[i];
-    const config::CameraConfig* config = experiment_.rig.find_camera(camera.name);
-    if (frames[i]->sequence == 0 || camera.backend != "sim" || sim == backends_.end() ||
-        config == nullptr || !config->sim_foveation.enabled()) {
-      continue;
+    if (frames[i]->sequence == 0) continue;
+    for (sim::RenderedViews* views : renderers) {
+      hal::Image whole;
+      if (!views->render_whole_frame(hardware_.cameras[i].name, whole)) continue;
+      whole.sequence = frames[i]->sequence;
+      images.back() = std::move(whole);
+      break;
     }
-    hal::Image whole;
-    static_cast<sim::SimBackend&>(*sim->second)
-        .ground_truth()
-        .render(camera.name, 0, 0, sim::ViewOptions{}, whole, nullptr);
-    whole.sequence = frames[i]->sequence;
-    images.back() = std::move(whole);
   }
   return images;
 }

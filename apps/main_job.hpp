@@ -25,6 +25,7 @@
 #include "cambio/perception/camera_loop.hpp"
 #include "cambio/perception/ssm_server.hpp"
 #include "cambio/runtime/executor.hpp"
+#include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
 #include "cambio/sim/ground_truth.hpp"
@@ -99,12 +100,14 @@ struct MainJobOptions {
 };
 
 /// The main job. Construction builds the run and configures it (throws on any problem):
-///  1. the executor, which owns the run's one clock: realtime on CLOCK_MONOTONIC when any joint
-///     group is on real hardware (socketcan) or the experiment asks for it, lockstep otherwise;
+///  1. the executor, which owns the run's one clock: realtime on CLOCK_MONOTONIC when any device
+///     is on a backend registered as paced by the wall clock (hal::BackendTraits: real hardware)
+///     or the experiment asks for it, lockstep otherwise;
 ///  2. the backends through the factory, given that clock and the HAL's hardware description;
-///     their devices; a group driven by another backend is followed by the sim, so its cameras
-///     see what the drives did;
-///  3. Backend::configure() of every backend;
+///     their devices; a backend that models the whole robot (follows_other_backends(): the sim)
+///     follows every group another backend drives, so its cameras see what the drives did;
+///  3. Backend::configure() of every backend, then what each offers (Backend::offer: ground
+///     truth, counters, renderers), asked for by type, never by backend name;
 ///  4. the loops, wired through latest-value channels:
 ///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop(s)
 ///     plus the backends' own loops (the sim's physics), and with a `behaviour:` the behaviour
@@ -199,8 +202,10 @@ class MainJob {
   hal::HardwareInfo hardware_;
   // The executor owns the clock the backends hold: it is destroyed last.
   std::unique_ptr<runtime::Executor> executor_;
+  runtime::LockstepExecutor* lockstep_ = nullptr;  // executor_, when the run is lockstep.
   bool realtime_ = false;
   std::map<std::string, std::unique_ptr<hal::Backend>, std::less<>> backends_;
+  hal::BackendOffers offers_;  // What the backends offer besides devices, after configure().
   std::vector<std::unique_ptr<hal::JointGroup>> groups_;
   std::vector<std::unique_ptr<hal::JointStateTap>> taps_;  // Groups another backend follows.
   std::vector<hal::JointGroup*> driven_groups_;            // What the joint loop drives, rig order.

@@ -15,11 +15,39 @@ std::string quoted(std::string_view name) {
   return "'" + std::string(name) + "'";
 }
 
+/// The sim's cameras for people: the renderer in use, and a foveated eye's view whole.
+class SimRenderedViews final : public RenderedViews {
+ public:
+  SimRenderedViews(const config::RigConfig& rig, const std::unique_ptr<Renderer>& renderer,
+                   GroundTruth& truth)
+      : rig_(rig), renderer_(renderer), truth_(truth) {}
+
+  std::optional<RendererDescription> renderer() const override {
+    if (renderer_ == nullptr) return std::nullopt;
+    return renderer_->description();
+  }
+
+  bool render_whole_frame(std::string_view camera_name, hal::Image& rgb) override {
+    const config::CameraConfig* camera = rig_.find_camera(std::string(camera_name));
+    if (camera == nullptr || camera->backend != SimBackend::kName ||
+        !camera->sim_foveation.enabled()) {
+      return false;
+    }
+    truth_.render(camera->name, 0, 0, ViewOptions{}, rgb, nullptr);
+    return true;
+  }
+
+ private:
+  const config::RigConfig& rig_;
+  const std::unique_ptr<Renderer>& renderer_;  // The backend's, made on first use.
+  GroundTruth& truth_;
+};
+
 }  // namespace
 
 void register_sim_backend(hal::BackendFactory& factory, const config::RigConfig& rig,
                           config::SceneConfig scene) {
-  factory.register_backend("sim",
+  factory.register_backend(SimBackend::kName,
                            [rig, scene = std::move(scene)](const hal::HardwareInfo& hardware,
                                                            const hal::BackendContext& context) {
                              return std::unique_ptr<hal::Backend>(
@@ -60,7 +88,7 @@ std::unique_ptr<hal::JointGroup> SimBackend::make_joint_group(std::string_view g
                                   " is driven by backend " + quoted(group->backend) +
                                   " and followed by the sim; it cannot also be a sim group");
   }
-  if (group->backend != "sim") {
+  if (group->backend != kName) {
     throw hal::BackendUnavailable("sim: joint group " + quoted(group_name) + " names backend " +
                                   quoted(group->backend) +
                                   ", not 'sim' (the sim can only follow it: follow_group)");
@@ -95,7 +123,7 @@ void SimBackend::follow_group(const hal::JointGroupInfo& group,
     throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
                                   ": the rig has no such group");
   }
-  if (made_groups_.count(group.name) != 0 || known->backend == "sim") {
+  if (made_groups_.count(group.name) != 0 || known->backend == kName) {
     throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
                                   ": the sim drives it itself (backend 'sim'); only a group "
                                   "another backend drives can be followed");
@@ -129,7 +157,7 @@ std::unique_ptr<hal::Camera> SimBackend::make_camera(std::string_view camera_nam
   if (camera == nullptr || config == nullptr) {
     throw std::runtime_error("sim: the rig has no camera " + quoted(camera_name));
   }
-  if (camera->backend != "sim") {
+  if (camera->backend != kName) {
     throw hal::BackendUnavailable("sim: camera " + quoted(camera_name) + " names backend " +
                                   quoted(camera->backend) + ", not 'sim'");
   }
@@ -148,7 +176,7 @@ std::unique_ptr<hal::Camera> SimBackend::make_camera(std::string_view camera_nam
 std::unique_ptr<hal::TouchSensor> SimBackend::make_touch_sensor(std::string_view sensor_name) {
   for (const auto& sensor : hardware_.touch_sensors) {
     if (sensor.name != sensor_name) continue;
-    if (sensor.backend != "sim") {
+    if (sensor.backend != kName) {
       throw hal::BackendUnavailable("sim: touch sensor " + quoted(sensor_name) + " names backend " +
                                     quoted(sensor.backend) + ", not 'sim'");
     }
@@ -171,7 +199,7 @@ void SimBackend::check_moved_by_sim(std::string_view device, const std::string& 
     const hal::JointInfo* joint = hardware_.find_joint(current);
     if (joint == nullptr) return;
     const hal::JointGroupInfo* group = hardware_.find_group(joint->group);
-    if (group != nullptr && group->backend != "sim" && followed_groups_.count(group->name) == 0) {
+    if (group != nullptr && group->backend != kName && followed_groups_.count(group->name) == 0) {
       throw std::runtime_error(
           "sim: " + std::string(device) + " hangs from joint " + quoted(joint->name) +
           " of joint group " + quoted(group->name) + ", which backend " + quoted(group->backend) +
@@ -212,7 +240,7 @@ int SimBackend::sim_joint(std::string_view joint_name) const {
   const hal::JointInfo* joint = hardware_.find_joint(joint_name);
   const hal::JointGroupInfo* group =
       joint != nullptr ? hardware_.find_group(joint->group) : nullptr;
-  if (group == nullptr || group->backend != "sim") {
+  if (group == nullptr || group->backend != kName) {
     throw std::invalid_argument("sim: joint " + quoted(joint_name) +
                                 " is not in a joint group the sim drives");
   }
@@ -241,6 +269,14 @@ Renderer& SimBackend::renderer() {
 
 GroundTruth& SimBackend::ground_truth() {
   return *ground_truth_;
+}
+
+void SimBackend::offer(hal::BackendOffers& offers) {
+  if (!rendered_views_) {
+    rendered_views_ = std::make_unique<SimRenderedViews>(rig_, renderer_, *ground_truth_);
+  }
+  offers.offer<GroundTruth>(*ground_truth_);
+  offers.offer<RenderedViews>(*rendered_views_);
 }
 
 }  // namespace cambio::sim

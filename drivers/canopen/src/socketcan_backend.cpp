@@ -246,6 +246,10 @@ void SocketCanBackend::deactivate() noexcept {
   configured_ = false;
 }
 
+void SocketCanBackend::offer(hal::BackendOffers& offers) {
+  for (const auto& [name, group] : groups_) offers.offer<const CanJointGroup>(*group);
+}
+
 void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
                                 SocketCanBackendOptions options) {
   factory.register_backend(
@@ -254,7 +258,8 @@ void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
           const hal::HardwareInfo& hardware, const hal::BackendContext& context) {
         return std::unique_ptr<hal::Backend>(
             std::make_unique<SocketCanBackend>(hardware, context, opener, options));
-      });
+      },
+      hal::BackendTraits{.paced_by_wall_clock = true});
 }
 
 }  // namespace cambio::canopen

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cambio/hal/backend_offers.hpp"
 #include "cambio/hal/camera.hpp"
 #include "cambio/hal/clock.hpp"
 #include "cambio/hal/hardware_info.hpp"
@@ -72,13 +73,29 @@ class Backend {
                              "' driven by backend '" + group.backend + "'");
   }
 
+  /// True for a backend that models the whole robot (the simulator): the run has it follow
+  /// every joint group another backend drives, so its cameras and touch sensors see what those
+  /// drives did.
+  virtual bool follows_other_backends() const { return false; }
+
   virtual void configure() {}
   virtual void activate() {}
   virtual void deactivate() noexcept {}
 
+  /// Adds what the backend offers besides its devices (ground truth, counters, a renderer) to
+  /// `offers`, as references it keeps owning. Called once, after configure().
+  virtual void offer(BackendOffers& offers) { (void)offers; }
+
   /// Loops the backend needs run (the sim's physics step), with their rates. The executor runs
   /// them with the application's loops; the backend keeps ownership.
   virtual std::vector<BackendLoop> loops() = 0;
+};
+
+/// What the run must know of a backend before it makes one.
+struct BackendTraits {
+  /// It drives real devices, so the run is paced by the wall clock (the realtime executor, whose
+  /// clock every backend is then given).
+  bool paced_by_wall_clock = false;
 };
 
 /// Builds backends by the name the rig file gives (`backend: sim`, `backend: socketcan`).
@@ -88,9 +105,17 @@ class BackendFactory {
  public:
   using Maker = std::function<std::unique_ptr<Backend>(const HardwareInfo&, const BackendContext&)>;
 
-  void register_backend(std::string name, Maker maker) {
+  void register_backend(std::string name, Maker maker, BackendTraits traits = {}) {
     unbuilt_.erase(name);
+    traits_[name] = traits;
     makers_[std::move(name)] = std::move(maker);
+  }
+
+  /// The traits `name` was registered with; the defaults for a name not registered (make()
+  /// refuses it).
+  BackendTraits traits(std::string_view name) const {
+    const auto it = traits_.find(name);
+    return it != traits_.end() ? it->second : BackendTraits{};
   }
 
   /// A backend the rig format knows but this build does not carry, and why (refused by make()
@@ -134,6 +159,7 @@ class BackendFactory {
 
  private:
   std::map<std::string, Maker, std::less<>> makers_;
+  std::map<std::string, BackendTraits, std::less<>> traits_;
   std::map<std::string, std::string, std::less<>> unbuilt_;
 };
 

@@ -14,6 +14,7 @@
 #include "cambio/sim/ground_truth.hpp"
 #include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/physics_loop.hpp"
+#include "cambio/sim/rendered_views.hpp"
 #include "cambio/sim/renderer.hpp"
 #include "cambio/sim/world.hpp"
 
@@ -43,6 +44,8 @@ void register_sim_backend(hal::BackendFactory& factory, const config::RigConfig&
 /// the layers above are tested without CAN.
 class SimBackend final : public hal::Backend {
  public:
+  static constexpr const char* kName = "sim";
+
   /// Builds the world (may throw ConfigError, MujocoError, std::runtime_error).
   /// `hardware` must describe `rig` (config::hardware_description(rig)); `context.clock` must be
   /// set and outlive the backend (std::invalid_argument otherwise). Tests build one directly
@@ -75,6 +78,11 @@ class SimBackend final : public hal::Backend {
   /// executor stopped). Idempotent.
   void deactivate() noexcept override;
   std::vector<hal::BackendLoop> loops() override;
+  /// The sim models the whole robot: it follows every group another backend drives.
+  bool follows_other_backends() const override { return true; }
+  /// Its GroundTruth (evaluation) and its RenderedViews (the report's renderer, whole frames of
+  /// foveated eyes).
+  void offer(hal::BackendOffers& offers) override;
 
   /// Test hooks, for testing the layers above without CAN. Each takes effect at the next physics
   /// step; thread-safe, lock-free, no allocation. Throw std::invalid_argument for a joint that
@@ -118,6 +126,7 @@ class SimBackend final : public hal::Backend {
   std::unique_ptr<Renderer> renderer_;
   std::unique_ptr<CameraFrames> camera_frames_;
   std::unique_ptr<GroundTruth> ground_truth_;
+  std::unique_ptr<RenderedViews> rendered_views_;
   std::set<std::string, std::less<>> made_groups_;
   std::set<std::string, std::less<>> followed_groups_;
   std::set<std::string, std::less<>> made_cameras_;

@@ -57,6 +57,8 @@ class SocketCanBackend final : public hal::Backend {
   void activate() override;
   void deactivate() noexcept override;
   std::vector<hal::BackendLoop> loops() override { return {}; }
+  /// Each CanJointGroup made (const: its counters, for the run's report).
+  void offer(hal::BackendOffers& offers) override;
 
   /// The group made for `group_name` (for its counters), or nullptr.
   const CanJointGroup* group(std::string_view group_name) const;
@@ -79,7 +81,8 @@ class SocketCanBackend final : public hal::Backend {
   bool active_ = false;
 };
 
-/// Registers the "socketcan" backend with `factory`.
+/// Registers the "socketcan" backend with `factory`: it drives real devices, so a run using it
+/// is paced by the wall clock.
 void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
                                 SocketCanBackendOptions options = {});
 

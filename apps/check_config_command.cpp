@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "backend_name_check.hpp"
+#include "builtin_backends.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "can_interface_bitrate.hpp"
 #include "command.hpp"
@@ -202,6 +204,12 @@ int run_check_config_command(std::span<const std::string> args) {
   if (!rig) return kExitBadInput;
   config::RenderDeviceChoice render_device;
   try {
+    // The names of the backends this build carries, from their registrations.
+    config::ExperimentConfig names_only;
+    names_only.rig = *rig;
+    hal::BackendFactory factory;
+    register_builtin_backends(factory, names_only);
+    check_backend_names(*rig, factory);
     render_device = config::choose_render_device(rig->sim.render_device, rig->source_file);
   } catch (const config::ConfigError& error) {
     report_config_error(error);

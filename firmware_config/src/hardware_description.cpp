@@ -106,10 +106,8 @@ hal::HardwareInfo hardware_description(const RigConfig& rig) {
                                           rig.stereo->baseline_m};
   }
   for (const auto& sensor : rig.touch_sensors) {
-    // Contact is sensed by the sim's world (following the arm when a CAN backend drives it);
-    // the rig format has no other touch backend yet.
     hardware.touch_sensors.push_back(
-        {sensor.name, "sim", sensor.parent, sensor.fingertip_x_m, sensor.fingertip_y_m});
+        {sensor.name, sensor.backend, sensor.parent, sensor.fingertip_x_m, sensor.fingertip_y_m});
   }
   for (const auto& bus : rig.can_buses) {
     hardware.can_buses.push_back(

@@ -25,6 +25,10 @@ bool is_at_or_under(std::string_view path, std::string_view prefix) {
 }  // namespace
 
 void IssueList::add(ConfigIssue issue) {
+  issues_.push_back(located(std::move(issue)));
+}
+
+ConfigIssue IssueList::located(ConfigIssue issue) const {
   for (const auto& overridden : overridden_paths_) {
     if (is_at_or_under(issue.key_path, overridden)) {
       issue.file = "--set";
@@ -33,7 +37,7 @@ void IssueList::add(ConfigIssue issue) {
       break;
     }
   }
-  issues_.push_back(std::move(issue));
+  return issue;
 }
 
 void IssueList::mark_overridden(std::string key_path) {
@@ -232,6 +236,21 @@ void MapReader::record(const YAML::Mark& at, std::string key_path, std::string m
   const bool known = !at.is_null() && at.line >= 0;
   issues_->add(ConfigIssue{file_, known ? at.line + 1 : 0, known ? at.column + 1 : 0,
                            std::move(key_path), std::move(message)});
+}
+
+ConfigIssue MapReader::location_of(std::string_view key) const {
+  YAML::Mark at = mark_;
+  if (valid_) {
+    for (auto it = node_.begin(); it != node_.end(); ++it) {
+      if (it->first.IsScalar() && it->first.Scalar() == key) {
+        at = mark_of(Entry{it->first, it->second});
+        break;
+      }
+    }
+  }
+  const bool known = !at.is_null() && at.line >= 0;
+  return issues_->located(
+      ConfigIssue{file_, known ? at.line + 1 : 0, known ? at.column + 1 : 0, child_path(key), {}});
 }
 
 YAML::Mark MapReader::mark_of(const Entry& entry) {

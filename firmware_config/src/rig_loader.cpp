@@ -1,6 +1,7 @@
 #include "cambio/config/rig_loader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -212,10 +213,32 @@ JointGroupCanConfig read_group_can(MapReader& r) {
   return can;
 }
 
+/// A backend is named as it registers itself: lower-case letters, digits and '_', starting with
+/// a letter. Which names exist is not the config layer's to know: the application checks them
+/// against the backends it carries (at JointGroupConfig::backend_at).
+std::string read_backend_name(MapReader& r, const std::optional<std::string>& fallback) {
+  std::string name = fallback ? r.text_or("backend", *fallback) : r.text("backend");
+  if (!r.has("backend")) return name;
+  const bool well_formed = !name.empty() && name.size() <= 64 &&
+                           std::islower(static_cast<unsigned char>(name[0])) &&
+                           std::all_of(name.begin(), name.end(), [](char c) {
+                             return std::islower(static_cast<unsigned char>(c)) ||
+                                    std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+                           });
+  if (!well_formed) {
+    r.error("backend",
+            "expected a backend's name (at most 64 lower-case letters, digits and '_', starting "
+            "with a letter, e.g. sim or socketcan), found '" +
+                name + "'");
+  }
+  return name;
+}
+
 JointGroupConfig read_group(const std::string& name, MapReader& r) {
   JointGroupConfig group;
   group.name = name;
-  group.backend = r.choice("backend", {"sim", "socketcan"});
+  group.backend = read_backend_name(r, std::nullopt);
+  group.backend_at = r.location_of("backend");
   group.joints = r.strings("joints");
   if (r.has("joints") && group.joints.empty()) {
     r.error("joints", "expected a list of at least one joint name, found an empty list");
@@ -258,7 +281,8 @@ void read_sim_foveation(MapReader& r, CameraConfig& camera, bool size_clean) {
 CameraConfig read_camera(const std::string& name, MapReader& r) {
   CameraConfig camera;
   camera.name = name;
-  camera.backend = r.choice_or("backend", {"sim"}, "sim");
+  camera.backend = read_backend_name(r, camera.backend);
+  camera.backend_at = r.location_of("backend");
   camera.parent = r.text("parent");
   camera.mount.xyz_m = r.vector3_or("origin_xyz_m", {0.0, 0.0, 0.0});
   camera.mount.rpy_rad = r.angles3_rad_or("origin_rpy", {0.0, 0.0, 0.0});
@@ -735,7 +759,11 @@ RigConfig read_rig(MapReader root, const std::string& file) {
 
   std::vector<MapReader> touch_readers;
   for (auto& [name, reader] : root.named_maps("touch_sensors")) {
-    TouchSensorConfig sensor{name, reader.text("parent")};
+    TouchSensorConfig sensor;
+    sensor.name = name;
+    sensor.backend = read_backend_name(reader, sensor.backend);
+    sensor.backend_at = reader.location_of("backend");
+    sensor.parent = reader.text("parent");
     if (reader.has("fingertip_xy_m")) {
       const CleanRead tip_read(reader);
       // Along the finger: a hand's size; off the midline: within half a gripper's span.

@@ -97,6 +97,19 @@ TEST(CheckConfigCli, AnOverloadedBusNamesTheGroupToSlowDown) {
       << run.output;
 }
 
+TEST(CheckConfigCli, ABackendThisBuildDoesNotCarryIsRefusedWithTheNamesItDoes) {
+  const CommandRun run = run_cambio(shipped("pan_tilt.yaml") +
+                                    " --set groups.pan_tilt.backend=ethercat"
+                                    " --set cameras.camera.backend=v4l2");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  for (const char* expected :
+       {"groups.pan_tilt.backend: backend 'ethercat' is not a known backend (available: sim, "
+        "socketcan)",
+        "cameras.camera.backend: backend 'v4l2' is not a known backend"}) {
+    EXPECT_NE(run.output.find(expected), std::string::npos) << expected << "\n" << run.output;
+  }
+}
+
 TEST(CheckConfigCli, BadFileExitsTwoWithEveryProblem) {
   const auto path = std::filesystem::temp_directory_path() / "cambio_check_config_bad.yaml";
   int bogus_line = 0;  // The line after the shipped file's last.

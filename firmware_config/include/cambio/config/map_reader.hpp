@@ -25,6 +25,8 @@ class IssueList {
   /// re-attributed to file "--set" with no line or column, since its YAML marks point into the
   /// override's text rather than the file.
   void add(ConfigIssue issue);
+  /// `issue` as add() would record it (an overridden key's location is "--set").
+  ConfigIssue located(ConfigIssue issue) const;
   /// Declares that `key_path` (and everything under it) came from a `--set` override.
   void mark_overridden(std::string key_path);
   /// Declares that a `--set` created the map at `key_path`, which the file does not have (the
@@ -151,6 +153,10 @@ class MapReader {
   const std::string& key_path() const { return key_path_; }
   const std::string& file() const { return file_; }
   std::string child_path(std::string_view key) const;
+  /// Where `key` of this map is (its value; the map itself when absent), as an issue with no
+  /// message: for a check made later, by a layer that knows what the loader cannot (which
+  /// backends this build carries). Marks nothing as read.
+  ConfigIssue location_of(std::string_view key) const;
   const std::shared_ptr<IssueList>& issues() const { return issues_; }
 
  private:

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/config_error.hpp"
 #include "cambio/config/render_device.hpp"
 
 namespace cambio::config {
@@ -76,7 +77,10 @@ struct JointGroupCanConfig {
 
 struct JointGroupConfig {
   std::string name;
-  std::string backend;              ///< "sim" or "socketcan".
+  /// The backend driving the group, by the name it registers with ("sim", "socketcan"); which
+  /// names this build carries is the application's to check, at `backend_at`.
+  std::string backend;
+  ConfigIssue backend_at;  ///< Where the backend is named (for errors found after loading).
   std::vector<std::string> joints;  ///< Order of the group's read()/write() spans.
   std::string can_bus;              ///< Name in RigConfig::can_buses; needed by socketcan.
   /// The group's joint-loop rate (a CAN group's SYNC rate): its rate_hz key, else
@@ -105,7 +109,8 @@ struct SimFoveationConfig {
 
 struct CameraConfig {
   std::string name;
-  std::string backend;  ///< "sim".
+  std::string backend = "sim";  ///< As JointGroupConfig::backend; default "sim".
+  ConfigIssue backend_at;
   /// Link the camera is mounted on: "base" or a joint's name.
   std::string parent;
   /// Pose of the camera's optical frame (z forward, x right, y down: OpenCV's) in the parent.
@@ -129,6 +134,8 @@ struct StereoConfig {
 
 struct TouchSensorConfig {
   std::string name;
+  std::string backend = "sim";  ///< As JointGroupConfig::backend; default "sim".
+  ConfigIssue backend_at;
   std::string parent;  ///< The link (joint name) whose geometry is the end effector.
   /// The fingertips the hand reaches and touches with: the middle of one fingertip's front face
   /// in the parent (gripper) link's frame at zero opening, x along the finger, y off the

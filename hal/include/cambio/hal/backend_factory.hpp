@@ -132,24 +132,29 @@ class BackendFactory {
     return names;
   }
 
+  /// Why `name` cannot be made, e.g. "is not a known backend (available: sim, socketcan)";
+  /// empty when it can.
+  std::string unavailable_reason(std::string_view name) const {
+    if (has(name)) return {};
+    std::string known;
+    for (const auto& available_name : available()) {
+      known += known.empty() ? available_name : ", " + available_name;
+    }
+    const auto unbuilt = unbuilt_.find(name);
+    const std::string why = unbuilt != unbuilt_.end()
+                                ? "is not built in this version of Câmbio (" + unbuilt->second + ")"
+                                : "is not a known backend";
+    return why + " (available: " + (known.empty() ? "none" : known) + ")";
+  }
+
   /// Throws BackendUnavailable naming `requested_by` (e.g. "joint group 'head'").
   std::unique_ptr<Backend> make(std::string_view name, const HardwareInfo& hardware,
                                 const BackendContext& context,
                                 std::string_view requested_by) const {
     const auto it = makers_.find(name);
     if (it == makers_.end()) {
-      std::string known;
-      for (const auto& available_name : available()) {
-        known += known.empty() ? available_name : ", " + available_name;
-      }
-      const auto unbuilt = unbuilt_.find(name);
-      const std::string why =
-          unbuilt != unbuilt_.end()
-              ? "is not built in this version of Câmbio (" + unbuilt->second + ")"
-              : "is not a known backend";
       throw BackendUnavailable("backend '" + std::string(name) + "' requested by " +
-                               std::string(requested_by) + " " + why +
-                               " (available: " + (known.empty() ? "none" : known) + ")");
+                               std::string(requested_by) + " " + unavailable_reason(name));
     }
     if (context.clock == nullptr) {
       throw std::invalid_argument("backend '" + std::string(name) + "': no clock given");

@@ -17,6 +17,7 @@
 #include "cambio/sim/ground_truth.hpp"
 #include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/rendered_views.hpp"
+#include "backend_name_check.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
 #include "robot_actions.hpp"
@@ -55,6 +56,7 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
     : experiment_(experiment),
       options_(options),
       hardware_(config::hardware_description(experiment.rig)) {
+  check_backend_names(experiment_.rig, factory);
   realtime_ = uses_wall_clock_backend(hardware_, factory) ||
               experiment_.executor == config::ExecutorKind::kRealtime;
   if (realtime_) {

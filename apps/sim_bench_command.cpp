@@ -192,7 +192,7 @@ int run_sim_bench_command(std::span<const std::string> args) {
     sim::SimBackend backend(rig, scene, hardware, hal::BackendContext{&clock});
     Exerciser exerciser;
     for (const auto& group : rig.groups) {
-      if (group.backend != "sim") continue;
+      if (group.backend != sim::SimBackend::kName) continue;
       exerciser.groups.push_back(backend.make_joint_group(group.name));
       exerciser.commands.emplace_back(group.joints.size());
     }

@@ -1,4 +1,4 @@
-# The layering rules of DESIGN.md, checked on the include graph:
+# The layering rules of docs/architecture.md, checked on the include graph and the sources:
 #  - control/ and perception/ see the HAL only: nothing from sim/ or drivers/;
 #  - hal/ depends on Eigen and the standard library alone, and names nothing of the config layer
 #    (not even a forward declaration): backends get the HAL's HardwareInfo;
@@ -33,6 +33,31 @@ foreach(path IN LISTS hal_files)
   foreach(line IN LISTS config_names)
     list(APPEND violations "${path}: ${line} (the HAL names nothing of firmware_config/)")
   endforeach()
+endforeach()
+
+# Backends are found by what they offer, never by name and cast: outside tests no source casts
+# down to a backend, executor or device type, nor uses dynamic_cast; the layers above the
+# backends (apps/, control/, perception/, hal/) never spell a backend's name (they use the
+# backend's own constant where a command is about one backend).
+file(GLOB_RECURSE all_sources ${SOURCE_DIR}/apps/*.cpp ${SOURCE_DIR}/apps/*.hpp
+     ${SOURCE_DIR}/control/*.cpp ${SOURCE_DIR}/control/*.hpp
+     ${SOURCE_DIR}/perception/*.cpp ${SOURCE_DIR}/perception/*.hpp
+     ${SOURCE_DIR}/hal/*.cpp ${SOURCE_DIR}/hal/*.hpp
+     ${SOURCE_DIR}/sim/*.cpp ${SOURCE_DIR}/sim/*.hpp
+     ${SOURCE_DIR}/drivers/*.cpp ${SOURCE_DIR}/drivers/*.hpp
+     ${SOURCE_DIR}/firmware_config/*.cpp ${SOURCE_DIR}/firmware_config/*.hpp)
+foreach(path IN LISTS all_sources)
+  file(STRINGS ${path} casts REGEX
+       "dynamic_cast|static_cast<[^>]*(Backend|Executor|JointGroup|Camera|TouchSensor|CanBus)[ ]*[&*]")
+  foreach(line IN LISTS casts)
+    list(APPEND violations "${path}: ${line} (ask hal::BackendOffers by type, do not cast)")
+  endforeach()
+  if(path MATCHES "/(apps|control|perception|hal)/" AND NOT path MATCHES "/builtin_backends\\.")
+    file(STRINGS ${path} names REGEX "\"(sim|socketcan|v4l2)\"")
+    foreach(line IN LISTS names)
+      list(APPEND violations "${path}: ${line} (a backend's name belongs to its registration)")
+    endforeach()
+  endif()
 endforeach()
 
 list(LENGTH upper_files upper_count)

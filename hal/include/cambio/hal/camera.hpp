@@ -26,7 +26,7 @@ struct PlumbBobDistortion {
 
 struct CameraInfo {
   std::string name;     ///< e.g. "left_eye"; unique in the rig.
-  std::string backend;  ///< "sim"; later "v4l2".
+  std::string backend;  ///< The name its backend registered with.
   /// The link the camera is mounted on: "base" or a joint's name (each joint moves a link named
   /// after it), as in HardwareInfo.
   std::string parent_frame;

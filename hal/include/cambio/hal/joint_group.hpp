@@ -121,7 +121,7 @@ struct CanGroupSettings {
 
 struct JointGroupInfo {
   std::string name;                 ///< e.g. "head", "left_arm".
-  std::string backend;              ///< "sim", "socketcan".
+  std::string backend;              ///< The name its backend registered with.
   std::vector<std::string> joints;  ///< Joint names, in the order of read()/write() spans.
   std::vector<JointLimits> limits;  ///< One per joint, same order.
   std::string can_bus;              ///< The bus a CAN backend drives it on ("" if none).

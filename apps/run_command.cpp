@@ -71,6 +71,7 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
     const control::GazeStatus& gaze = *result.gaze;
     json["gaze"] = {{"commands_applied", gaze.commands_applied},
                     {"commands_rejected", result.gaze_rejected_commands},
+                    {"last_refusal", std::string(control::to_string(gaze.last_refusal))},
                     {"disparity_measurements", result.gaze_measurements},
                     {"vergence_corrections", result.gaze_corrections},
                     {"final_action", gaze_action_name(gaze.action)},
@@ -139,7 +140,8 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
                                         {"tx_queue_full", c.tx_queue_full},
                                         {"emergencies", c.emergencies},
                                         {"error_frames", c.error_frames},
-                                        {"boot_ups", c.boot_ups}};
+                                        {"boot_ups", c.boot_ups},
+                                        {"receive_cap_reached", c.receive_cap_reached}};
   }
   if (result.renderer) {
     add_renderer_fields(json["renderer"], *result.renderer);

@@ -55,9 +55,10 @@ ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64
   // behind the eye, a saccade the joints cannot make, a joint that is not the head's).
   if (const control::GazeLoop* gaze_loop = job_.gaze_loop()) {
     const std::uint64_t rejected = gaze_loop->rejected_commands();
-    if (rejected > gaze_rejections_seen_) {
+    control::GazeStatus status;
+    if (rejected > gaze_rejections_seen_ && gaze_loop->status().read(status)) {
       out_ << "note: the gaze loop could not carry out " << rejected - gaze_rejections_seen_
-           << " command(s): a target behind the eye, or beyond the joints' reach\n";
+           << " command(s), the last: " << control::to_string(status.last_refusal) << "\n";
     }
     gaze_rejections_seen_ = rejected;
   }

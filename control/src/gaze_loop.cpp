@@ -228,7 +228,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
     case GazeAction::kSaccade: {
       Eigen::Vector4d target;
       if (!resolve(command.target, target)) {
-        ++rejected_commands_;
+        refuse(GazeRefusal::kTargetUnresolved);
         mode_ = Mode::kHold;
         break;
       }
@@ -253,7 +253,9 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
     }
     case GazeAction::kMoveJoint:
       mode_ = Mode::kHold;
-      if (!move_joint(command.joint_rig_index, command.position_rad)) ++rejected_commands_;
+      if (!move_joint(command.joint_rig_index, command.position_rad)) {
+        refuse(GazeRefusal::kNotAHeadJoint);
+      }
       break;
     case GazeAction::kVerge:
       break;  // Handled above.
@@ -316,7 +318,7 @@ void GazeLoop::start_saccade(std::int64_t now_ns) noexcept {
   q_scratch_tree_ = q_command_tree_;  // Same size: no allocation.
   if (servo_->solve(q_command_tree_, target_W_, vergence_rad_, q_scratch_tree_) !=
       hal::Status::kOk) {
-    ++rejected_commands_;
+    refuse(GazeRefusal::kOutOfReach);
     mode_ = Mode::kFixate;  // Servo there instead, at the servo's pace.
     return;
   }
@@ -346,9 +348,21 @@ void GazeLoop::start_saccade(std::int64_t now_ns) noexcept {
     saccade_q0_[k] = q_command_tree_[at(saccade_joints_[k])];
     saccade_q1_[k] = q_scratch_tree_[at(saccade_joints_[k])];
   }
-  (void)saccade_.plan(saccade_q0_, saccade_q1_, saccade_vmax_, saccade_amax_);
+  if (!std::isfinite(saccade_.plan(saccade_q0_, saccade_q1_, saccade_vmax_, saccade_amax_))) {
+    // No plan (a joint with no velocity or acceleration limit to plan with): the old plan is
+    // kept, and must not be replayed towards this target. The head holds where it is.
+    refuse(GazeRefusal::kSaccadeUnplannable);
+    mode_ = Mode::kHold;
+    return;
+  }
   saccade_start_ns_ = now_ns;
   mode_ = Mode::kSaccade;
+}
+
+void GazeLoop::refuse(GazeRefusal why) noexcept {
+  ++rejected_commands_;
+  ++status_.commands_refused;
+  status_.last_refusal = why;
 }
 
 void GazeLoop::servo_step(double gain_scale, double dt_s) noexcept {

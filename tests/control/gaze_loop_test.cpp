@@ -133,6 +133,7 @@ class GazeHarness {
   }
 
   double q_deg(const std::string& joint) const { return q_rig_[index(joint)] / kDeg; }
+  std::vector<double> joint_positions_rad() const { return q_rig_; }
   double velocity_rad_s(const std::string& joint) const {
     return (q_rig_[index(joint)] - previous_q_rig_[index(joint)]) / kPeriodS;
   }
@@ -169,6 +170,13 @@ class GazeHarness {
   const GazeLoop& loop() const { return *loop_; }
   GazeLoop& loop() { return *loop_; }
   const hal::HardwareInfo& hardware() const { return hardware_; }
+  /// Before build().
+  hal::JointLimits& limits(const std::string& joint) {
+    for (auto& info : hardware_.joints) {
+      if (info.name == joint) return info.limits;
+    }
+    throw std::out_of_range(joint);
+  }
 
  private:
   std::size_t index(const std::string& joint) const {
@@ -507,6 +515,26 @@ TEST(GazeLoop, AHugeFinitePointIsRefusedAndTheLoopStaysFinite) {
   for (int i = 0; i < 600; ++i) head.step(&target);
   EXPECT_TRUE(std::isfinite(head.status().vergence_rad));
   EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, target), 0.01) << "the head still obeys";
+}
+
+TEST(GazeLoop, ASaccadeWithNoPlanIsRefusedWithItsReasonAndTheHeadHolds) {
+  // The planner returns NaN for a moving joint with no acceleration limit and keeps its last
+  // plan; before, the loop replayed that plan towards the new target.
+  GazeHarness head;
+  head.limits("neck_pan").max_acceleration_rad_s2 = 0.0;
+  head.build();
+  const std::vector<double> before = head.joint_positions_rad();
+  const Eigen::Vector3d far_left(1.0, 1.2, 1.4);  // Beyond the neck rule: the neck must turn.
+  head.command(GazeAction::kSaccade, GazeHarness::point(far_left));
+  for (int i = 0; i < 20; ++i) head.step();
+  const GazeStatus status = head.status();
+  EXPECT_EQ(status.commands_refused, 1u);
+  EXPECT_EQ(status.last_refusal, GazeRefusal::kSaccadeUnplannable);
+  EXPECT_EQ(head.loop().rejected_commands(), 1u);
+  EXPECT_FALSE(status.saccade_active);
+  EXPECT_EQ(status.action, GazeAction::kSaccade);
+  const std::vector<double> after = head.joint_positions_rad();
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_NEAR(after[i], before[i], 1e-9) << i;
 }
 
 TEST(GazeLoop, VergenceSwitchesOffAndOnWithoutChangingWhatTheHeadDoes) {

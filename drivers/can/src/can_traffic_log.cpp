@@ -115,8 +115,7 @@ std::shared_ptr<CanTrafficLog::Ring> CanTrafficLog::add_ring(std::string interfa
 
 std::uint64_t CanTrafficLog::records_dropped() const {
   // The writer never removes rings, and add_ring() is called at configure time only.
-  auto& self = const_cast<CanTrafficLog&>(*this);
-  const std::lock_guard lock(self.rings_mutex_);
+  const std::lock_guard lock(rings_mutex_);
   std::uint64_t dropped = 0;
   for (const auto& ring : rings_) dropped += ring->dropped();
   return dropped;

@@ -243,7 +243,13 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
   if (out.size() != slots_.size()) return hal::Status::kRejected;
   const std::int64_t now_ns = clock_.now_ns();
   hal::CanFrame frame;
-  while (bus_.receive(frame) == hal::Status::kOk) dispatch(frame, now_ns);
+  std::size_t received = 0;
+  const std::size_t cap = max_frames_per_read();
+  while (received < cap && bus_.receive(frame) == hal::Status::kOk) {
+    dispatch(frame, now_ns);
+    ++received;
+  }
+  if (received == cap) bump(counters_.receive_cap_reached);
   check_bus();
   run_reconfiguration(now_ns);
 
@@ -394,7 +400,8 @@ CanGroupCounters CanJointGroup::counters() const {
           load(counters_.boot_ups),
           load(counters_.bus_faults),
           load(counters_.reconfigurations),
-          load(counters_.reconfiguration_failures)};
+          load(counters_.reconfiguration_failures),
+          load(counters_.receive_cap_reached)};
 }
 
 std::size_t CanJointGroup::shutdown_frames(std::uint16_t controlword,

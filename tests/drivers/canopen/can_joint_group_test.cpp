@@ -475,6 +475,32 @@ TEST(CanJointGroup, MalformedUnexpectedAndLateFramesAreCountedAndIgnored) {
   EXPECT_EQ(f.states[0].drive_state, DriveState::kSwitchOnDisabled);
 }
 
+TEST(CanJointGroup, AFloodedBusIsReadAtMostACapPerCycleAndTheRestWaits) {
+  Fixture f;
+  (void)f.cycle();
+  hal::CanBus& intruder = f.network.add_endpoint("intruder");
+  hal::CanFrame other;
+  other.id = 0x1B2;  // TPDO1 of node 50, not in the group.
+  other.length = 6;
+  const std::size_t cap = f.group->max_frames_per_read();
+  const std::size_t flood = 2 * cap + 5;
+  for (std::size_t i = 0; i < flood; ++i) ASSERT_EQ(intruder.send(other), hal::Status::kOk);
+  (void)f.cycle();
+  CanGroupCounters counters = f.group->counters();
+  // The drive's answer to the previous SYNC was queued first; the flood fills the rest.
+  EXPECT_EQ(counters.unexpected_frames, cap - 1) << "one cycle takes no more than the cap";
+  EXPECT_EQ(counters.receive_cap_reached, 1u);
+  (void)f.cycle();
+  (void)f.cycle();
+  (void)f.cycle();
+  counters = f.group->counters();
+  EXPECT_EQ(counters.unexpected_frames, flood) << "the rest is read in the next cycles";
+  EXPECT_EQ(counters.receive_cap_reached, 2u);
+  const std::uint64_t answered = counters.tpdos_received;
+  (void)f.cycle();
+  EXPECT_EQ(f.group->counters().tpdos_received, answered + 1) << "the drive is heard again";
+}
+
 TEST(CanJointGroup, OneSendBatchPerCycleCarriesRpdosThenSync) {
   Fixture f(2);
   hal::CanBus& probe = f.network.add_endpoint("probe");

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 
 namespace cambio::control {
 
@@ -43,11 +44,38 @@ struct GazeCommand {
   double position_rad = 0.0;  ///< kMoveJoint: where to.
 };
 
+/// Why the gaze loop refused a command (it holds, or servoes, instead of carrying it out).
+enum class GazeRefusal : std::uint8_t {
+  kNone,
+  kTargetUnresolved,    ///< Behind the eye, not finite, or beyond the distances a target may be.
+  kOutOfReach,          ///< No head pose within the joints' limits looks at it.
+  kSaccadeUnplannable,  ///< The joints' velocity and acceleration limits give no saccade.
+  kNotAHeadJoint,       ///< A joint move for a joint the gaze does not drive.
+};
+
+constexpr std::string_view to_string(GazeRefusal refusal) {
+  switch (refusal) {
+    case GazeRefusal::kNone:
+      return "none";
+    case GazeRefusal::kTargetUnresolved:
+      return "target behind the eye, not finite or too far";
+    case GazeRefusal::kOutOfReach:
+      return "beyond the joints' reach";
+    case GazeRefusal::kSaccadeUnplannable:
+      return "no saccade within the joints' velocity and acceleration limits";
+    case GazeRefusal::kNotAHeadJoint:
+      return "not a head joint, or a position beyond its limits";
+  }
+  return "unknown";
+}
+
 /// What the gaze loop believes and does, published every control cycle.
 struct GazeStatus {
   std::int64_t stamp_ns = 0;
   GazeAction action = GazeAction::kHold;
   std::uint64_t commands_applied = 0;
+  std::uint64_t commands_refused = 0;
+  GazeRefusal last_refusal = GazeRefusal::kNone;  ///< Why the newest refused command was.
   bool saccade_active = false;  ///< The dominant eye is on a saccade's trajectory.
   bool target_set = false;
   /// The point the dominant eye is servoed to, from its own kinematics (base frame, m); a

@@ -128,6 +128,8 @@ class GazeLoop final : public hal::Loop {
   /// not the head's or a position that is not finite.
   bool move_joint(int rig_index, double position_rad) noexcept;
   void start_saccade(std::int64_t now_ns) noexcept;
+  /// Counts a command not carried out and says why (GazeStatus::last_refusal).
+  void refuse(GazeRefusal why) noexcept;
   void servo_step(double gain_scale, double dt_s) noexcept;
   void verge(const perception::SsmSummary& summary) noexcept;
   void clamp_vergence() noexcept;

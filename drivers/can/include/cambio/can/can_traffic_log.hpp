@@ -57,7 +57,8 @@ class CanTrafficLog {
   std::size_t ring_capacity_;
   bool stamps_on_monotonic_;
   int file_ = -1;
-  std::mutex rings_mutex_;  // only between add_ring() and the writer; never on the loop side
+  mutable std::mutex
+      rings_mutex_;  // only between add_ring() and the writer; never on the loop side
   std::vector<std::shared_ptr<Ring>> rings_;
   std::vector<char> buffer_;
   std::size_t buffered_ = 0;

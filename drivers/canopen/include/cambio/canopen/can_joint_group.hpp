@@ -50,6 +50,9 @@ struct CanGroupCounters {
   std::uint64_t bus_faults = 0;                ///< Times the bus was found bus-off or down.
   std::uint64_t reconfigurations = 0;          ///< Rebooted drives configured again, verified.
   std::uint64_t reconfiguration_failures = 0;  ///< Abort, timeout or read-back mismatch.
+  /// Cycles whose read() stopped at max_frames_per_read(): the frames still queued wait for the
+  /// next cycle (a flooded bus cannot hold the joint loop).
+  std::uint64_t receive_cap_reached = 0;
 };
 
 class CanJointGroup final : public hal::JointGroup {
@@ -64,6 +67,10 @@ class CanJointGroup final : public hal::JointGroup {
   hal::Status write(std::span<const hal::JointCommand> commands) override;
   hal::Status request(hal::DriveRequest request, int joint = kAllJoints) override;
   hal::Status sync() override;
+
+  /// The most frames one read() takes off the bus: every drive's answers to a SYNC and its
+  /// heartbeat, EMCY and SDO frames eight times over, and room for NMT and error frames.
+  std::size_t max_frames_per_read() const { return 8 * slots_.size() + 32; }
 
   /// Thread-safe snapshot of the counters.
   CanGroupCounters counters() const;
@@ -145,7 +152,7 @@ class CanJointGroup final : public hal::JointGroup {
     std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},
         late_tpdos{0}, malformed_frames{0}, unexpected_frames{0}, tx_queue_full{0}, emergencies{0},
         error_frames{0}, boot_ups{0}, bus_faults{0}, reconfigurations{0},
-        reconfiguration_failures{0};
+        reconfiguration_failures{0}, receive_cap_reached{0};
   } counters_;
 };
 

@@ -15,7 +15,7 @@ struct mjrContext_;
 
 namespace cambio::sim {
 
-/// What a view draws. The eyes' defaults follow DESIGN.md: no shadows, no reflections (MSAA is
+/// What a view draws. The eyes' defaults: no shadows, no reflections (MSAA is
 /// off in the model), the head that carries them hidden.
 struct ViewOptions {
   bool shadows = false;

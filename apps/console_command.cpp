@@ -182,7 +182,12 @@ MainJobResult run_lockstep(ConsoleRun& run) {
       const auto due =
           wall_anchor + std::chrono::nanoseconds(static_cast<std::int64_t>(
                             static_cast<double>(end_ns - sim_anchor_ns) / run.real_time_factor));
-      std::this_thread::sleep_until(due);
+      // In steps of at most 20 ms, so a stop asked at a tiny factor (one slice of 10 ms at
+      // --rtf 1e-6 is almost three hours) ends the wait at once.
+      while (!run.signal_stop.load() && std::chrono::steady_clock::now() < due) {
+        std::this_thread::sleep_until(
+            std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(20)));
+      }
     }
     return end_ns;
   });

@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
   // A reader that went away (`cambio ... | head`) is a failed write, checked like a full disk
   // (exit 2 with the reason), not a silent death by SIGPIPE that skips a console's clean stop.
   std::signal(SIGPIPE, SIG_IGN);
+  // The same for a file-size limit (ulimit -f): the write that crosses it fails with EFBIG and
+  // is reported, instead of SIGXFSZ killing the program with no message and the drives enabled.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (argc < 2) {
     print_usage(std::cerr);
     return cambio::app::kExitBadInput;

@@ -381,7 +381,11 @@ int run_run_command(std::span<const std::string> args) {
           plots.saccade_end_s = *start + *saccade;
         }
       }
-      stage_plots(*out, *trace, plots);
+      if (stop_hurried()) {
+        std::cerr << "cambio run: plots skipped: a second signal asked to hurry\n";
+      } else {
+        stage_plots(*out, *trace, plots);
+      }
     }
     out->stage("summary.json",
                json_text(summary_json(experiment, result, outcome, job->trace(), evaluation)));

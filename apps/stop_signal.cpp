@@ -9,11 +9,13 @@ namespace {
 
 std::atomic<bool> g_stop_requested{false};
 std::atomic<int> g_stop_signal{0};
+std::atomic<bool> g_hurry{false};
 
+// A robot stack's last act is to leave the drives safe: a later signal asks to hurry (skip what
+// is optional), never to end the program before the quick stop and disable have run.
 extern "C" void on_stop_signal(int signal_number) {
   if (g_stop_requested.exchange(true)) {
-    std::signal(signal_number, SIG_DFL);
-    std::raise(signal_number);
+    g_hurry.store(true);
     return;
   }
   g_stop_signal.store(signal_number);
@@ -29,6 +31,10 @@ const std::atomic<bool>& install_stop_signal_handlers() {
     sigaction(signal_number, &action, nullptr);
   }
   return g_stop_requested;
+}
+
+bool stop_hurried() {
+  return g_hurry.load();
 }
 
 int stop_signal_number() {

@@ -141,6 +141,18 @@ TEST(Outputs, AFullDiskIsAnErrorAndLeavesThePreviousSetIntact) {
   EXPECT_EQ(read_json(dir / ".cambio-manifest.json").at("complete"), true);
 }
 
+TEST(Outputs, AFileSizeLimitIsAFailedWriteNotADeathBySigxfsz) {
+  // ulimit -f 64: no file of the run may pass 64 KiB; trace.csv and the images do.
+  const fs::path dir = fresh_directory("fsize");
+  const auto result = run_in_shell(
+      "ulimit -f 64; \"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
+      "--set experiment.duration_s=0.5 --out '" +
+      dir.string() + "'");
+  EXPECT_EQ(result.exit_code, 2) << "not 153 (SIGXFSZ): " << result.output;
+  EXPECT_TRUE(contains(result.output, "File too large")) << result.output;
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << "no partial set was put in place";
+}
+
 TEST(Outputs, AFailedWriteToStandardOutputIsAnError) {
   // stderr to the test, stdout to a device that is always full.
   auto result =
@@ -204,6 +216,45 @@ TEST(Signals, AnInterruptedRunSaysSoInItsStatusItsSummaryAndItsProgress) {
     EXPECT_LT(summary.at("simulated_s").get<double>(), 60.0);
     EXPECT_GT(summary.at("simulated_s").get<double>(), 0.0);
   }
+}
+
+TEST(Signals, ASecondSignalHurriesTheStopButNeverSkipsItNorTheResults) {
+  // Two SIGTERMs at once, as `timeout` and impatient users send: before, the second ended the
+  // program before the drives were disabled and before any file was written.
+  const fs::path dir = fresh_directory("signal_twice");
+  const fs::path log = dir.string() + ".log";
+  fs::remove(log);
+  const auto result = run_in_shell(
+      "\"$CAMBIO\" run tests/apps/data/sim_hold.yaml --set experiment.duration_s=60 --out '" +
+      dir.string() + "' 2>'" + log.string() + "' & pid=$!; until grep -q 'executor' '" +
+      log.string() + "' 2>/dev/null; do sleep 0.05; done; sleep 0.5; kill -TERM $pid; " +
+      "kill -TERM $pid; sleep 0.01; kill -TERM $pid; wait $pid; status=$?; cat '" + log.string() +
+      "'; exit $status");
+  EXPECT_EQ(result.exit_code, 143) << result.output;
+  EXPECT_TRUE(contains(result.output, "interrupted by SIGTERM")) << result.output;
+  const nlohmann::json summary = read_json(dir / "summary.json");
+  EXPECT_EQ(summary.at("outcome"), "interrupted");
+  EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);
+}
+
+TEST(Signals, AConsoleAtATinyRealTimeFactorStopsAtOnce) {
+  // --rtf 1e-6: each 10 ms slice of simulated time is 10,000 s of wall time. Before, SIGINT was
+  // seen only when the slice's sleep ended.
+  const fs::path log = fresh_directory("signal_console_rtf").string() + ".log";
+  fs::remove(log);
+  const auto started = std::chrono::steady_clock::now();
+  const auto result = run_in_shell(
+      "printf 'wait 1\\nstatus\\n' | \"$CAMBIO\" console "
+      "firmware_config/experiments/vergence_sphere.yaml --rtf 1e-6 "
+      ">'" +
+      log.string() + "' 2>&1 & pid=$!; until grep -q 'executor' '" + log.string() +
+      "' 2>/dev/null || [ $((tries += 1)) -ge 600 ]; do sleep 0.05; done; sleep 0.5; "
+      "kill -INT $pid; wait $pid; status=$?; cat '" +
+      log.string() + "'; exit $status");
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  EXPECT_EQ(result.exit_code, 130) << result.output;
+  EXPECT_LT(wall_s, 20.0) << result.output;
 }
 
 TEST(Signals, AConsoleWaitingOnARealtimeRigStopsAtOnce) {

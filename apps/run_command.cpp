@@ -233,7 +233,9 @@ int run_run_command(std::span<const std::string> args) {
       .option("out", "DIR", "write each camera's last frame (PNG) and summary.json here")
       .option("can-log", "FILE",
               "log every CAN frame of the socketcan groups' buses to FILE in candump -L format "
-              "(replay with canplayer -I FILE)");
+              "(replay with canplayer -I FILE); written beside FILE and put in place when the "
+              "run ends, so a run that never starts leaves FILE as it was (its frames in "
+              "FILE.incomplete)");
   if (!parser.parse(args)) return kExitOk;
 
   std::vector<config::ConfigOverride> overrides;

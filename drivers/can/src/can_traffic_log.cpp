@@ -1,6 +1,7 @@
 #include "cambio/can/can_traffic_log.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <bit>
@@ -88,7 +89,15 @@ CanTrafficLog::CanTrafficLog(const std::string& path, std::size_t ring_capacity,
       ring_capacity_(ring_capacity),
       stamps_on_monotonic_(frame_stamps_on_monotonic),
       buffer_(kWriteBufferBytes) {
-  file_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // A regular file (or none yet) is written beside and put in place by close(), so a run that
+  // never starts leaves the user's earlier log whole; a FIFO or device is written directly.
+  struct stat existing {};
+  if (::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode)) {
+    file_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  } else {
+    staging_path_ = path + ".cambio-partial-" + std::to_string(::getpid());
+    file_ = ::open(staging_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  }
   if (file_ < 0) {
     throw std::runtime_error("cannot open the CAN log '" + path + "': " + std::strerror(errno));
   }
@@ -97,11 +106,10 @@ CanTrafficLog::CanTrafficLog(const std::string& path, std::size_t ring_capacity,
 
 CanTrafficLog::~CanTrafficLog() {
   const bool collected = closed_;
-  const CanLogReport report = close();
-  if (!collected && !report.ok()) {
-    std::fprintf(stderr, "CAN log %s: %s (%llu records dropped)\n", path_.c_str(),
-                 report.error.empty() ? "incomplete" : report.error.c_str(),
-                 static_cast<unsigned long long>(report.records_dropped));
+  const CanLogReport report = abandon();
+  if (!collected && !report.abandoned_path.empty()) {
+    std::fprintf(stderr, "CAN log %s: left unchanged; this run's frames are in %s\n", path_.c_str(),
+                 report.abandoned_path.c_str());
   }
 }
 
@@ -166,6 +174,31 @@ void CanTrafficLog::writer_loop() {
 
 CanLogReport CanTrafficLog::close() {
   if (closed_) return report_;
+  finish();
+  if (!staging_path_.empty()) {
+    if (::rename(staging_path_.c_str(), path_.c_str()) < 0 && error_.empty()) {
+      error_ = "putting the CAN log '" + path_ + "' in place failed: " + std::strerror(errno);
+    }
+  }
+  report_.error = error_;
+  return report_;
+}
+
+CanLogReport CanTrafficLog::abandon() {
+  if (closed_) return report_;
+  finish();
+  if (!staging_path_.empty()) {
+    const std::string beside = path_ + ".incomplete";
+    if (::rename(staging_path_.c_str(), beside.c_str()) == 0) {
+      report_.abandoned_path = beside;
+    } else {
+      report_.abandoned_path = staging_path_;
+    }
+  }
+  return report_;
+}
+
+void CanTrafficLog::finish() {
   {
     const std::lock_guard lock(rings_mutex_);
     closed_ = true;
@@ -181,7 +214,6 @@ CanLogReport CanTrafficLog::close() {
   report_.records_written = written_;
   report_.records_dropped = records_dropped();
   report_.error = error_;
-  return report_;
 }
 
 LoggingCanBus::LoggingCanBus(std::unique_ptr<hal::CanBus> bus, CanTrafficLog& log)

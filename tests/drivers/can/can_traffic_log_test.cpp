@@ -172,6 +172,40 @@ TEST(CanTrafficLog, ReportsAFailedWriteNamingTheFile) {
   EXPECT_FALSE(report.ok());
 }
 
+TEST(CanTrafficLog, AnEarlierLogStaysWholeUntilTheNewOneIsClosedAndARunThatNeverStartedKeepsIt) {
+  const fs::path path = temp_path("earlier.log");
+  const fs::path incomplete = path.string() + ".incomplete";
+  fs::remove(incomplete);
+  { std::ofstream(path) << "(1.000000) can0 080#\n"; }
+  InProcessCanNetwork network;
+  {
+    CanTrafficLog log(path.string(), 64);
+    LoggingCanBus bus(std::make_unique<BorrowedBus>(network.add_endpoint("can0")), log);
+    ASSERT_EQ(bus.send(frame(0x123, {0xAB})), hal::Status::kOk);
+    EXPECT_EQ(read_lines(path).size(), 1u) << "the earlier log is untouched while running";
+    const CanLogReport report = log.abandon();  // The run never started.
+    EXPECT_EQ(report.abandoned_path, incomplete.string());
+  }
+  ASSERT_EQ(read_lines(path).size(), 1u);
+  EXPECT_NE(read_lines(path)[0].find("080#"), std::string::npos) << "the earlier log is whole";
+  ASSERT_EQ(read_lines(incomplete).size(), 1u);
+  EXPECT_NE(read_lines(incomplete)[0].find("123#AB"), std::string::npos);
+  {
+    CanTrafficLog log(path.string(), 64);
+    LoggingCanBus bus(std::make_unique<BorrowedBus>(network.add_endpoint("can1")), log);
+    ASSERT_EQ(bus.send(frame(0x124, {0xCD})), hal::Status::kOk);
+    EXPECT_TRUE(log.close().ok());
+  }
+  ASSERT_EQ(read_lines(path).size(), 1u);
+  EXPECT_NE(read_lines(path)[0].find("124#CD"), std::string::npos) << "closed: put in place";
+  for (const auto& entry : fs::directory_iterator(path.parent_path())) {
+    EXPECT_EQ(entry.path().string().find(path.string() + ".cambio-partial"), std::string::npos)
+        << "no staging file is left behind";
+  }
+  fs::remove(path);
+  fs::remove(incomplete);
+}
+
 TEST(CanTrafficLog, RefusesAFileItCannotCreate) {
   try {
     CanTrafficLog log("/nonexistent-dir/can.log");

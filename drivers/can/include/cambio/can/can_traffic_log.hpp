@@ -17,6 +17,8 @@ struct CanLogReport {
   std::uint64_t records_written = 0;
   std::uint64_t records_dropped = 0;  ///< Lost to a full ring (the writer fell behind).
   std::string error;                  ///< First write/close failure, naming the file; "" if none.
+  /// From abandon(): where this run's frames were left (the log's path is unchanged).
+  std::string abandoned_path;
   bool ok() const { return error.empty() && records_dropped == 0; }
 };
 
@@ -29,17 +31,23 @@ struct CanLogReport {
 /// `frame_stamps_on_monotonic` is false (e.g. an in-process bus on a simulated clock).
 class CanTrafficLog {
  public:
-  /// Creates (truncates) `path` and starts the writer. `ring_capacity`: records per bus between
-  /// two drains (rounded up to a power of two). Throws std::runtime_error naming the file.
+  /// Starts the writer on a new file beside `path` (PATH.cambio-partial-PID), which close() puts
+  /// in place: whatever `path` held stays whole until then. A `path` that is a FIFO or a device
+  /// is written directly. `ring_capacity`: records per bus between two drains (rounded up to a
+  /// power of two). Throws std::runtime_error naming the file.
   explicit CanTrafficLog(const std::string& path, std::size_t ring_capacity = 8192,
                          bool frame_stamps_on_monotonic = true);
-  ~CanTrafficLog();  ///< close(); a failure not collected by close() is printed to stderr.
+  ~CanTrafficLog();  ///< abandon() unless closed, saying where the frames went.
   CanTrafficLog(const CanTrafficLog&) = delete;
   CanTrafficLog& operator=(const CanTrafficLog&) = delete;
 
   /// Drains every ring, writes and closes the file, checking every write; then reports.
   /// Frames recorded afterwards are counted as dropped. Idempotent. Not for a loop.
   CanLogReport close();
+  /// For a run that never started: drains and closes as close() does, but leaves `path` as it
+  /// was and this run's frames in PATH.incomplete (CanLogReport::abandoned_path). Idempotent;
+  /// after close() it does nothing.
+  CanLogReport abandon();
   const std::string& path() const { return path_; }
   /// Records lost to full rings so far. Thread-safe.
   std::uint64_t records_dropped() const;
@@ -52,8 +60,10 @@ class CanTrafficLog {
   void writer_loop();
   std::size_t drain();
   void write_out(const char* data, std::size_t size);
+  void finish();  ///< Stops the writer, drains, closes the file; fills report_.
 
   std::string path_;
+  std::string staging_path_;  ///< Where frames go until close(); empty when written directly.
   std::size_t ring_capacity_;
   bool stamps_on_monotonic_;
   int file_ = -1;

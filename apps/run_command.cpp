@@ -237,6 +237,9 @@ int run_run_command(std::span<const std::string> args) {
               "run ends, so a run that never starts leaves FILE as it was (its frames in "
               "FILE.incomplete)");
   if (!parser.parse(args)) return kExitOk;
+  // First: building configures the drives (SDO on a CAN rig), and a signal then must be heard,
+  // never kill the program silently.
+  const auto& stop = install_stop_signal_handlers();
 
   std::vector<config::ConfigOverride> overrides;
   config::ExperimentConfig experiment;
@@ -282,7 +285,14 @@ int run_run_command(std::span<const std::string> args) {
     return kExitDeviceFault;
   }
 
-  const auto& stop = install_stop_signal_handlers();
+  if (stop.load()) {
+    // Nothing was activated: the drives are as the run found them (configured, not enabled).
+    const int signal_number = stop_signal_number();
+    std::cerr << "cambio run: interrupted by "
+              << outcome_of({.stopped_by_signal = true}, false).signal_name
+              << " while starting: nothing ran, no drive was enabled, no results written\n";
+    return exit_status_for_signal(signal_number);
+  }
   std::cerr << "cambio run: " << experiment.name << " on rig '" << experiment.rig.name << "', "
             << (job->realtime() ? "realtime" : "lockstep") << " executor, " << experiment.duration_s
             << " s, seed " << experiment.seed << "\n";
@@ -394,6 +404,10 @@ int run_run_command(std::span<const std::string> args) {
     out->commit();
     std::cerr << "cambio run: wrote " << out->path().string() << " (" << out->files().size()
               << " files)\n";
+  }
+  if (stop.load() && !result.stopped_by_signal) {
+    std::cerr << "cambio run: signal " << stop_signal_number()
+              << " arrived after the run had ended; the results are complete\n";
   }
   return outcome.exit_status;
 }

@@ -237,6 +237,19 @@ TEST(Signals, ASecondSignalHurriesTheStopButNeverSkipsItNorTheResults) {
   EXPECT_EQ(summary.at("joint_loop").at("fault_latched_at_end"), false);
 }
 
+TEST(Signals, ASignalWhileTheRunIsBeingBuiltIsHeardAndSaysSo) {
+  // The run claims --out, then builds (the world, the renderer; SDO on a CAN rig). Before, the
+  // handlers came after the build: a signal then killed the program with no word.
+  const fs::path dir = fresh_directory("signal_start");
+  const auto result = run_in_shell(
+      "\"$CAMBIO\" run tests/apps/data/sim_hold.yaml --set experiment.duration_s=60 --out '" +
+      dir.string() + "' & pid=$!; until [ -e '" + dir.string() +
+      "/.cambio-lock' ] || [ $((tries += 1)) -ge 2000 ]; do sleep 0.001; done; kill -INT $pid; "
+      "wait $pid");
+  EXPECT_EQ(result.exit_code, 130) << result.output;
+  EXPECT_TRUE(contains(result.output, "interrupted by")) << result.output;
+}
+
 TEST(Signals, AConsoleAtATinyRealTimeFactorStopsAtOnce) {
   // --rtf 1e-6: each 10 ms slice of simulated time is 10,000 s of wall time. Before, SIGINT was
   // seen only when the slice's sleep ended.

@@ -155,6 +155,8 @@ MainJobResult run_lockstep(ConsoleRun& run) {
   std::int64_t sim_anchor_ns = 0;
   return run.job.run_stepped(run.signal_stop, [&](std::int64_t now_ns) -> std::int64_t {
     bool read_a_line = false;
+    // The previous command has had its control period: say what the loops refused of it.
+    if (now_ns >= wait_until_ns) run.session.report_loop_refusals();
     while (!quit && now_ns >= wait_until_ns) {
       bool eof = false;
       const std::optional<std::string> line = run.lines.next(eof);
@@ -170,7 +172,11 @@ MainJobResult run_lockstep(ConsoleRun& run) {
       if (next.sent) wait_until_ns = std::max(wait_until_ns, now_ns + run.job.control_period_ns());
       run.lines.done_with_line();
     }
-    if (quit) return -1;
+    // The last command takes effect (and may be refused) before the console ends.
+    if (quit && now_ns >= wait_until_ns) {
+      run.session.report_loop_refusals();
+      return -1;
+    }
     if (read_a_line && !run.lines.interactive()) {
       // Reading a piped line took wall time the simulation did not: pace from here.
       wall_anchor = std::chrono::steady_clock::now();
@@ -246,7 +252,11 @@ MainJobResult run_realtime(ConsoleRun& run) {
       sleep_while_running(std::chrono::duration_cast<std::chrono::nanoseconds>(
           std::chrono::duration<double>(next.wait_s)));
     }
-    if (next.sent) sleep_while_running(std::chrono::nanoseconds(run.job.control_period_ns()));
+    if (next.sent) {
+      // Two periods: the command is taken at the loops' next cycle, which may be a period away.
+      sleep_while_running(std::chrono::nanoseconds(2 * run.job.control_period_ns()));
+      run.session.report_loop_refusals();
+    }
     run.lines.done_with_line();
   }
   stop_run = true;

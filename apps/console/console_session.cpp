@@ -50,15 +50,16 @@ ConsoleSession::ConsoleSession(MainJob& job, RobotActions& actions,
       believed_(job.make_believed_joints()),
       q_believed_rig_(job.joint_order().size(), 0.0) {}
 
-ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64_t now_ns) {
-  // What the gaze loop refused since the last line (it checks what the console cannot: a target
-  // behind the eye, a saccade the joints cannot make, a joint that is not the head's).
+void ConsoleSession::report_loop_refusals() {
+  // What the gaze loop refused (it checks what the console cannot: a target behind the eye, a
+  // saccade the joints cannot make, a joint that is not the head's).
   if (const control::GazeLoop* gaze_loop = job_.gaze_loop()) {
     const std::uint64_t rejected = gaze_loop->rejected_commands();
     control::GazeStatus status;
     if (rejected > gaze_rejections_seen_ && gaze_loop->status().read(status)) {
-      out_ << "note: the gaze loop could not carry out " << rejected - gaze_rejections_seen_
+      out_ << "refused by the gaze loop: " << rejected - gaze_rejections_seen_
            << " command(s), the last: " << control::to_string(status.last_refusal) << "\n";
+      lines_refused_ += rejected - gaze_rejections_seen_;
     }
     gaze_rejections_seen_ = rejected;
   }
@@ -68,9 +69,16 @@ ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64
       arm_commands_seen_ = arms.commands_applied;
       const bool refused = arms.arms[0].phase == control::ReachPhase::kRefused ||
                            arms.arms[1].phase == control::ReachPhase::kRefused;
-      if (refused) out_ << "note: the arms refused: " << arms.refusal() << "\n";
+      if (refused) {
+        out_ << "refused by the arms: " << arms.refusal() << "\n";
+        ++lines_refused_;
+      }
     }
   }
+}
+
+ConsoleSession::Next ConsoleSession::execute(const std::string& line, std::int64_t now_ns) {
+  report_loop_refusals();  // Any not yet said (the console reports them once its command ran).
   const auto parsed = console::parse(line);
   if (!parsed) return {};
   if (const auto* error = std::get_if<console::ParseError>(&*parsed)) {

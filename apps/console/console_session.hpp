@@ -35,6 +35,10 @@ class ConsoleSession {
   Next execute(const std::string& line, std::int64_t now_ns);
 
   std::uint64_t lines_refused() const { return lines_refused_; }
+  /// Prints (and counts as refused lines) what the gaze loop and the arms refused since last
+  /// asked: the console calls it once a command has had a control period to take effect, so a
+  /// refusal follows its line, the last line's too.
+  void report_loop_refusals();
 
  private:
   Next carry_out(const console::Command& command, std::int64_t now_ns);

@@ -212,8 +212,17 @@ TEST_F(ConsoleTest, TheNearerArmReachesWhatTheHeadFixatesTouchesItAndGrasps) {
   // The left arm's joint moved (true angle from the simulator); its reach is out of range and
   // the console says why.
   EXPECT_NEAR(true_joint_deg(r.output, "left_elbow"), 30.0, 0.5) << r.output;
-  EXPECT_NE(r.output.find("note: the arms refused: out of reach: the target is"), std::string::npos)
+  EXPECT_NE(r.output.find("refused by the arms: out of reach: the target is"), std::string::npos)
       << r.output;
+}
+
+TEST_F(ConsoleTest, ARefusalByTheLoopsFollowsItsLineEvenTheLastOne) {
+  // The arm loop checks reach; the console's line only sends. Before, its refusal was printed
+  // after the next line was read, and never for the last line.
+  const CommandResult r = console("reach point 2 0 1 left\n", "", "reach_touch");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("refused by the arms: out of reach"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 lines refused"), std::string::npos) << r.output;
 }
 
 TEST_F(ConsoleTest, AnExperimentWithoutTheGazeTaskIsRefusedBeforeAnythingRuns) {

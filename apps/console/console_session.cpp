@@ -169,8 +169,15 @@ ConsoleSession::Next ConsoleSession::carry_out(const console::Command& command,
         } else if constexpr (std::is_same_v<T, Wait>) {
           next.wait_s = c.seconds;
         } else if constexpr (std::is_same_v<T, MoveJoint>) {
+          // Say where it goes: the angle asked, within the joint's limits (one truth with the
+          // clamp note).
+          double to_rad = c.angle_rad;
+          if (const hal::JointInfo* joint = job_.hardware().find_joint(c.joint)) {
+            to_rad =
+                std::clamp(to_rad, joint->limits.min_position_rad, joint->limits.max_position_rad);
+          }
           report(actions_.move_joint(c.joint, c.angle_rad),
-                 format("moving %s to %.2f deg", c.joint.c_str(), degrees(c.angle_rad)));
+                 format("moving %s to %.2f deg", c.joint.c_str(), degrees(to_rad)));
         } else if constexpr (std::is_same_v<T, Look>) {
           aim(c.target, false);
         } else if constexpr (std::is_same_v<T, Saccade>) {

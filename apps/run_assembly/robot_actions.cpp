@@ -20,10 +20,16 @@ behaviour::ActionResult refused(std::string why) {
   return {false, std::move(why)};
 }
 
+// An angle as people read it; one too large for degrees (1e308 rad) is said as given.
 std::string degrees(double rad) {
   std::ostringstream out;
-  out.precision(1);
-  out << std::fixed << rad * 180.0 / std::numbers::pi << " deg";
+  const double deg = rad * 180.0 / std::numbers::pi;
+  if (!std::isfinite(deg)) {
+    out << rad << " rad";
+  } else {
+    out.precision(1);
+    out << std::fixed << deg << " deg";
+  }
   return out.str();
 }
 

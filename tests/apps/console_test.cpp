@@ -97,6 +97,19 @@ TEST_F(ConsoleTest, AMoveBeyondALimitIsClampedAndSaysSo) {
   EXPECT_LT(limit_deg, 200.0);
   // The simulator's joint is there (within its servo's tracking).
   EXPECT_NEAR(true_joint_deg(r.output, "neck_tilt"), limit_deg, 0.5) << r.output;
+  // What the console says the joint does is what the clamp said: one truth.
+  EXPECT_NE(r.output.find("moving neck_tilt to " + match[1].str() + "0 deg"), std::string::npos)
+      << r.output;
+}
+
+TEST_F(ConsoleTest, AnAngleTooLargeForDegreesIsSaidAsGivenAndTheMoveAsClamped) {
+  const CommandResult r = console("move neck_pan 1e308\n");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("neck_pan: 1e+308 rad is beyond its upper limit; clamped to 90.0 deg"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("moving neck_pan to 90.00 deg"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("inf"), std::string::npos) << r.output;
 }
 
 TEST_F(ConsoleTest, BadLinesAreRefusedWithWhatWasExpectedAndTheRunGoesOn) {

@@ -135,7 +135,11 @@ class EmulatedDrive final : private SdoTarget {
                           std::span<const std::uint8_t> data) override;
   std::size_t sdo_size(canopen::ObjectAddress address) const override;
 
-  void build_dictionary();
+  void build_dictionary();  ///< The steps below, then finalise and find_live_objects().
+  void add_communication_objects();
+  void add_pdo_objects();
+  void add_cia402_objects();
+  void find_live_objects();
   void boot(std::int64_t now_ns) noexcept;
   void handle_nmt(const hal::CanFrame& frame, std::int64_t now_ns) noexcept;
   void handle_sync(std::int64_t now_ns) noexcept;

@@ -297,8 +297,9 @@ int run_can_bench_command(std::span<const std::string> args) {
 
   // Bus load: the shipped pan-tilt on socketcan at its 1 kHz, every frame on the bus counted
   // (RPDOs, SYNC, TPDOs, heartbeats, anything else) over `cycles` cycles of simulated time.
-  config::RigConfig pan_tilt = config::load_rig(config::resolve_config_argument("rigs", "pan_tilt"),
-                                                {{"groups.pan_tilt.backend", canopen::SocketCanBackend::kName}});
+  config::RigConfig pan_tilt =
+      config::load_rig(config::resolve_config_argument("rigs", "pan_tilt"),
+                       {{"groups.pan_tilt.backend", canopen::SocketCanBackend::kName}});
   MasterAndDrives pan_tilt_bus(pan_tilt);
   const WireCount before = pan_tilt_bus.wire();
   for (int i = 0; i < cycles; ++i) (void)pan_tilt_bus.cycle();

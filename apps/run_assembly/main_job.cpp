@@ -6,6 +6,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "backend_name_check.hpp"
 #include "cambio/behaviour/attention_behaviour.hpp"
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/hardware_description.hpp"
@@ -17,7 +18,6 @@
 #include "cambio/sim/ground_truth.hpp"
 #include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/rendered_views.hpp"
-#include "backend_name_check.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
 #include "robot_actions.hpp"

@@ -489,8 +489,8 @@ class TargetLoop final : public hal::Loop {
   const hal::Clock& clock_;
 };
 
-// The main job's wiring of two groups at two rates (apps/run_assembly/main_job.cpp): one loop per rate, each
-// taking its joints from the rig-wide target frame, sharing a RigHold.
+// The main job's wiring of two groups at two rates (apps/run_assembly/main_job.cpp): one loop per
+// rate, each taking its joints from the rig-wide target frame, sharing a RigHold.
 struct TwoRateRig {
   TwoRateRig() {
     head.clock = arm.clock = &executor.clock();

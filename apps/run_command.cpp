@@ -287,9 +287,10 @@ int run_run_command(std::span<const std::string> args) {
 
   if (stop.load()) {
     // Nothing was activated: the drives are as the run found them (configured, not enabled).
+    MainJobResult nothing_ran;
+    nothing_ran.stopped_by_signal = true;
     const int signal_number = stop_signal_number();
-    std::cerr << "cambio run: interrupted by "
-              << outcome_of({.stopped_by_signal = true}, false).signal_name
+    std::cerr << "cambio run: interrupted by " << outcome_of(nothing_ran, false).signal_name
               << " while starting: nothing ran, no drive was enabled, no results written\n";
     return exit_status_for_signal(signal_number);
   }

@@ -246,8 +246,10 @@ start_phase sigint
 run_master --set experiment.duration_s=60
 if wait_enabled; then
   sleep 1
-  kill -INT "${master_pid}"
+  # Mark the log before the signal: a master that stops quickly has written its NMT frames by
+  # the time a count taken after the kill runs (the checks below look from the mark on).
   signal_line=$(wc -l <"${phase}/candump.log")
+  kill -INT "${master_pid}"
 fi
 wait "${master_pid}"
 status=$?

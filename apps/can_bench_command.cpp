@@ -7,7 +7,7 @@
 //   timed part;
 // - the bus load the shipped pan-tilt puts on can0 at 1 kHz, counted from the frames the
 //   in-process network carried (worst-case stuffed bits per frame, as the loader counts them),
-//   against the loader's model (config::can_bus_load);
+//   against the bus-load model (canopen::can_bus_load);
 // - the bench's own peak RSS.
 // Each timed figure is the median over rounds that alternate between the cases, so a burst of
 // load from another process skews one round, not the figure.
@@ -23,6 +23,8 @@
 
 #include "argument_parser.hpp"
 #include "cambio/can/in_process_can_bus.hpp"
+#include "cambio/canopen/can_bus_load.hpp"
+#include "cambio/canopen/can_rig_from_config.hpp"
 #include "cambio/canopen/pdo_codec.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
 #include "cambio/canopen/protocol.hpp"
@@ -73,7 +75,7 @@ class CountingBus final : public hal::CanBus {
     const hal::Status status = bus_.send(frame);
     if (status == hal::Status::kOk) {
       ++count_.frames;
-      count_.bits += static_cast<std::uint64_t>(config::can_frame_worst_case_bits(frame.length));
+      count_.bits += static_cast<std::uint64_t>(canopen::can_frame_worst_case_bits(frame.length));
     }
     return status;
   }
@@ -120,15 +122,16 @@ class MasterAndDrives {
   explicit MasterAndDrives(const config::RigConfig& rig) : rig_(rig) {
     const hal::HardwareInfo hardware = config::hardware_description(rig_);
     group_name_ = rig_.groups.front().name;
-    drives_ = std::make_unique<virtual_rig::VirtualRig>(rig_, [this](const hal::CanBusInfo& info) {
-      return std::make_unique<CountingBus>(network_.add_endpoint("rig " + info.name), wire_);
-    });
+    drives_ =
+        std::make_unique<virtual_rig::VirtualRig>(rig_, [this](const canopen::CanBusInfo& info) {
+          return std::make_unique<CountingBus>(network_.add_endpoint("rig " + info.name), wire_);
+        });
     canopen::SocketCanBackendOptions options;
     options.default_joint_rate_hz = rig_.groups.front().rate_hz;
     options.waiter = [this](hal::CanBus&, std::int64_t) { let_drives_answer(); };
     backend_ = std::make_unique<canopen::SocketCanBackend>(
-        hardware, hal::BackendContext{&clock_},
-        [this](const hal::CanBusInfo& info) {
+        hardware, canopen::can_rig_from_config(rig_), hal::BackendContext{&clock_},
+        [this](const canopen::CanBusInfo& info) {
           return std::make_unique<CountingBus>(network_.add_endpoint("master " + info.name), wire_);
         },
         options);
@@ -304,12 +307,16 @@ int run_can_bench_command(std::span<const std::string> args) {
   const WireCount before = pan_tilt_bus.wire();
   for (int i = 0; i < cycles; ++i) (void)pan_tilt_bus.cycle();
   const WireCount& after = pan_tilt_bus.wire();
-  const config::CanBusConfig& bus = pan_tilt.can_buses.front();
+  const canopen::CanRigInfo pan_tilt_can = canopen::can_rig_from_config(pan_tilt);
+  const canopen::CanBusInfo& bus = pan_tilt_can.buses.front();
   const double window_s =
       static_cast<double>(cycles) * static_cast<double>(pan_tilt_bus.period_ns()) * 1e-9;
   const double measured_load = static_cast<double>(after.bits - before.bits) / window_s /
                                static_cast<double>(bus.bitrate_bit_s);
-  const double model_load = config::can_bus_load(pan_tilt, bus).load;
+  const double model_load =
+      canopen::can_bus_load(config::hardware_description(pan_tilt), pan_tilt_can, bus,
+                            canopen::SocketCanBackend::kName)
+          .load;
   const auto counters = pan_tilt_bus.group().counters();
 
   const long rss_kib = peak_rss_kib();

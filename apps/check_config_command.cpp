@@ -8,12 +8,16 @@
 #include <vector>
 
 #include "argument_parser.hpp"
-#include "backend_name_check.hpp"
 #include "builtin_backends.hpp"
+#include "cambio/canopen/can_bus_load.hpp"
+#include "cambio/canopen/can_rig_from_config.hpp"
+#include "cambio/canopen/socketcan_backend.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "can_interface_bitrate.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "rig_backend_check.hpp"
 
 namespace cambio::app {
 
@@ -54,7 +58,7 @@ std::string vector_text(const std::array<double, 3>& v, double scale = 1.0) {
 }
 
 /// Whether this machine's interface runs at the rig's bit rate (the OS sets it, not the stack).
-void print_interface_check(const config::CanBusConfig& bus, std::ostream& out) {
+void print_interface_check(const canopen::CanBusInfo& bus, std::ostream& out) {
   const CanInterfaceBitrate here = query_can_interface_bitrate(bus.interface);
   out << "    ";
   if (!here.present) {
@@ -141,18 +145,21 @@ void print_summary(const RigConfig& rig, const config::RenderDeviceChoice& rende
   }
 
   if (!rig.can_buses.empty()) {
-    out << "\nCAN buses (worst-case load of the socketcan groups; the limit is "
-        << plain(config::kMaxCanBusLoad * 100.0) << "%)\n";
-    for (const auto& bus : rig.can_buses) {
+    const std::string master = canopen::SocketCanBackend::kName;
+    const hal::HardwareInfo hardware = config::hardware_description(rig);
+    const canopen::CanRigInfo can_rig = canopen::can_rig_from_config(rig);
+    out << "\nCAN buses (worst-case load of the " << master << " groups; the limit is "
+        << plain(canopen::kMaxCanBusLoad * 100.0) << "%)\n";
+    for (const auto& bus : can_rig.buses) {
       out << "  " << bus.name << ": interface " << bus.interface << ", "
           << plain(static_cast<double>(bus.bitrate_bit_s) / 1000.0) << " kbit/s";
       if (bus.fd) {
         out << ", FD data " << plain(static_cast<double>(bus.data_bitrate_bit_s) / 1000.0)
             << " kbit/s";
       }
-      const config::CanBusLoad load = config::can_bus_load(rig, bus);
+      const canopen::CanBusLoad load = canopen::can_bus_load(hardware, can_rig, bus, master);
       if (load.groups.empty()) {
-        out << ", no socketcan groups\n";
+        out << ", no " << master << " groups\n";
       } else {
         out << ", load " << fixed(load.load * 100.0, 1) << "% (" << fixed(load.bit_s, 0)
             << " bit/s)\n";
@@ -209,7 +216,7 @@ int run_check_config_command(std::span<const std::string> args) {
     names_only.rig = *rig;
     hal::BackendFactory factory;
     register_builtin_backends(factory, names_only);
-    check_backend_names(*rig, factory);
+    check_rig_backends(*rig, factory);
     render_device = config::choose_render_device(rig->sim.render_device, rig->source_file);
   } catch (const config::ConfigError& error) {
     report_config_error(error);

@@ -13,7 +13,11 @@
 #include "argument_parser.hpp"
 #include "bounded_line.hpp"
 #include "cambio/can/socketcan_bus.hpp"
+#include "cambio/canopen/can_rig_check.hpp"
+#include "cambio/canopen/can_rig_from_config.hpp"
+#include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/echoed_text.hpp"
+#include "cambio/config/hardware_description.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
 #include "cambio/virtual_rig/virtual_rig.hpp"
@@ -27,7 +31,7 @@ namespace cambio::app {
 namespace {
 
 /// The one place the virtual rig meets the kernel's CAN stack.
-std::unique_ptr<hal::CanBus> open_socketcan_bus(const hal::CanBusInfo& info) {
+std::unique_ptr<hal::CanBus> open_socketcan_bus(const canopen::CanBusInfo& info) {
   can::SocketCanOptions options;
   options.interface = info.interface;
   options.fd = info.fd;
@@ -115,6 +119,18 @@ int run_virtual_rig_command(std::span<const std::string> args) {
   const auto rig = load_rig_or_report(
       config::resolve_config_argument("rigs", parser.value("config")), overrides);
   if (!rig) return kExitBadInput;
+  // The rig's CANopen side as the master checks it (buses defined, node ids unique per bus), each
+  // problem at its key: the drives emulated are those a master would drive.
+  std::vector<config::ConfigIssue> issues;
+  for (auto& problem : canopen::check_can_rig(config::hardware_description(*rig),
+                                              canopen::can_rig_from_config(*rig),
+                                              canopen::SocketCanBackend::kName)) {
+    issues.push_back(rig->locate(problem.key_path, std::move(problem.message)));
+  }
+  if (!issues.empty()) {
+    report_config_error(config::ConfigError(std::move(issues)));
+    return kExitBadInput;
+  }
 
   std::unique_ptr<virtual_rig::VirtualRig> emulated;
   try {

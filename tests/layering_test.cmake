@@ -35,6 +35,17 @@ foreach(path IN LISTS hal_files)
   endforeach()
 endforeach()
 
+# The config layer depends on no driver and no simulator: backends check their own settings.
+file(GLOB_RECURSE config_files ${SOURCE_DIR}/firmware_config/*.hpp ${SOURCE_DIR}/firmware_config/*.cpp
+     ${SOURCE_DIR}/firmware_config/CMakeLists.txt)
+foreach(path IN LISTS config_files)
+  file(STRINGS ${path} uses REGEX
+       "[<\"]cambio/(can|canopen|sim|virtual_rig)/|cambio::(can|canopen|sim|virtual_rig)[ )]|cambio::(can|canopen|sim|virtual_rig)$")
+  foreach(line IN LISTS uses)
+    list(APPEND violations "${path}: ${line} (firmware_config/ depends on no driver or simulator)")
+  endforeach()
+endforeach()
+
 # Backends are found by what they offer, never by name and cast: outside tests no source casts
 # down to a backend, executor or device type, nor uses dynamic_cast; the layers above the
 # backends (apps/, control/, perception/, hal/) never spell a backend's name (they use the

@@ -7,6 +7,7 @@
 
 #include "cambio/can/can_traffic_log.hpp"
 #include "cambio/can/socketcan_bus.hpp"
+#include "cambio/canopen/can_rig_from_config.hpp"
 #include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/scene_config.hpp"
@@ -19,14 +20,19 @@ namespace {
 /// Receive filters passing every frame of the predefined connection set from or to the nodes
 /// driven on `bus` (TPDOs, SDO answers, EMCY, heartbeats; id & 0x7F == node), plus NMT and SYNC.
 std::vector<can::CanFilter> node_filters(const hal::HardwareInfo& hardware,
-                                         const hal::CanBusInfo& bus) {
+                                         const canopen::CanRigInfo& can_rig,
+                                         const canopen::CanBusInfo& bus) {
   std::vector<can::CanFilter> filters;
   for (const auto& group : hardware.groups) {
-    if (group.backend != canopen::SocketCanBackend::kName || group.can_bus != bus.name) continue;
+    const canopen::CanGroupInfo* can_group = can_rig.find_group(group.name);
+    if (group.backend != canopen::SocketCanBackend::kName || can_group == nullptr ||
+        can_group->bus != bus.name) {
+      continue;
+    }
     for (const auto& joint_name : group.joints) {
-      const hal::JointInfo* joint = hardware.find_joint(joint_name);
-      if (joint == nullptr || !joint->drive) continue;
-      filters.push_back({static_cast<std::uint32_t>(joint->drive->node_id), 0x7Fu});
+      const canopen::JointDriveInfo* drive = can_rig.find_drive(joint_name);
+      if (drive == nullptr) continue;
+      filters.push_back({static_cast<std::uint32_t>(drive->node_id), 0x7Fu});
     }
   }
   return filters;
@@ -54,11 +60,12 @@ void register_builtin_backends(hal::BackendFactory& factory,
     options.default_joint_rate_hz = joint_loop->rate_hz;
   }
   const hal::HardwareInfo hardware = config::hardware_description(experiment.rig);
+  canopen::CanRigInfo can_rig = canopen::can_rig_from_config(experiment.rig);
   std::map<std::string, std::vector<can::CanFilter>, std::less<>> filters;
-  for (const auto& bus : hardware.can_buses) filters[bus.name] = node_filters(hardware, bus);
+  for (const auto& bus : can_rig.buses) filters[bus.name] = node_filters(hardware, can_rig, bus);
   canopen::register_socketcan_backend(
-      factory,
-      [can_log, filters](const hal::CanBusInfo& info) -> std::unique_ptr<hal::CanBus> {
+      factory, std::move(can_rig),
+      [can_log, filters](const canopen::CanBusInfo& info) -> std::unique_ptr<hal::CanBus> {
         can::SocketCanOptions bus_options;
         bus_options.interface = info.interface;
         bus_options.fd = info.fd;

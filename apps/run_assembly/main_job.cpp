@@ -6,7 +6,6 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "backend_name_check.hpp"
 #include "cambio/behaviour/attention_behaviour.hpp"
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/config/hardware_description.hpp"
@@ -20,6 +19,7 @@
 #include "cambio/sim/rendered_views.hpp"
 #include "controller_params.hpp"
 #include "foveation_check.hpp"
+#include "rig_backend_check.hpp"
 #include "robot_actions.hpp"
 
 namespace cambio::app {
@@ -56,7 +56,7 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
     : experiment_(experiment),
       options_(options),
       hardware_(config::hardware_description(experiment.rig)) {
-  check_backend_names(experiment_.rig, factory);
+  check_rig_backends(experiment_.rig, factory);
   realtime_ = uses_wall_clock_backend(hardware_, factory) ||
               experiment_.executor == config::ExecutorKind::kRealtime;
   if (realtime_) {

@@ -21,13 +21,6 @@ hal::JointInfo joint_info(const JointConfig& joint) {
   info.axis_J = Eigen::Vector3d(joint.axis[0], joint.axis[1], joint.axis[2]).normalized();
   info.limits = limits_of(joint);
   info.initial_position_rad = joint.initial_position_rad;
-  if (joint.can) {
-    info.drive = hal::JointDriveInfo{
-        joint.can->node_id, joint.can->gear_ratio, joint.can->encoder_counts_per_rev,
-        joint.can->following_error_window_rad,
-        joint.servo.command == ServoCommandMode::kVelocity ? hal::CommandMode::kVelocity
-                                                           : hal::CommandMode::kPosition};
-  }
   return info;
 }
 
@@ -67,15 +60,7 @@ hal::HardwareInfo hardware_description(const RigConfig& rig) {
     info.name = group.name;
     info.backend = group.backend;
     info.joints = group.joints;
-    info.can_bus = group.can_bus;
     info.rate_hz = group.rate_hz;
-    info.can.heartbeat_period_s = group.can.heartbeat_period_s;
-    info.can.stale_after_missed_syncs = group.can.stale_after_missed_syncs;
-    info.can.sdo_timeout_s = group.can.sdo_timeout_s;
-    info.can.velocity_feedforward = group.can.velocity_feedforward;
-    info.can.effort_feedforward = group.can.effort_feedforward;
-    info.can.velocity_feedback = group.can.velocity_feedback;
-    info.can.effort_feedback = group.can.effort_feedback;
     for (const auto& joint_name : group.joints) {
       const JointConfig* joint = rig.find_joint(joint_name);
       if (joint == nullptr) {
@@ -108,10 +93,6 @@ hal::HardwareInfo hardware_description(const RigConfig& rig) {
   for (const auto& sensor : rig.touch_sensors) {
     hardware.touch_sensors.push_back(
         {sensor.name, sensor.backend, sensor.parent, sensor.fingertip_x_m, sensor.fingertip_y_m});
-  }
-  for (const auto& bus : rig.can_buses) {
-    hardware.can_buses.push_back(
-        {bus.name, bus.interface, bus.bitrate_bit_s, bus.fd, bus.data_bitrate_bit_s});
   }
   return hardware;
 }

@@ -253,6 +253,18 @@ ConfigIssue MapReader::location_of(std::string_view key) const {
       ConfigIssue{file_, known ? at.line + 1 : 0, known ? at.column + 1 : 0, child_path(key), {}});
 }
 
+void MapReader::record_locations(std::map<std::string, ConfigIssue, std::less<>>& index) const {
+  const bool known = !mark_.is_null() && mark_.line >= 0;
+  index[key_path_] = issues_->located(
+      ConfigIssue{file_, known ? mark_.line + 1 : 0, known ? mark_.column + 1 : 0, key_path_, {}});
+  if (!valid_) return;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    if (!it->first.IsScalar()) continue;
+    ConfigIssue at = location_of(it->first.Scalar());
+    index[at.key_path] = std::move(at);
+  }
+}
+
 YAML::Mark MapReader::mark_of(const Entry& entry) {
   return entry.value.IsNull() || !entry.value.IsDefined() ? entry.key.Mark() : entry.value.Mark();
 }

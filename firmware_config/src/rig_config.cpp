@@ -43,4 +43,20 @@ const CanBusConfig* RigConfig::find_can_bus(const std::string& bus_name) const {
   return find_named(can_buses, bus_name);
 }
 
+ConfigIssue RigConfig::locate(std::string_view key_path, std::string message) const {
+  std::string_view path = key_path;
+  ConfigIssue issue{source_file, 0, 0, {}, {}};
+  while (!path.empty()) {
+    if (const auto it = locations.find(path); it != locations.end()) {
+      issue = it->second;
+      break;
+    }
+    const auto dot = path.rfind('.');
+    path = dot == std::string_view::npos ? std::string_view{} : path.substr(0, dot);
+  }
+  issue.key_path = std::string(key_path);
+  issue.message = std::move(message);
+  return issue;
+}
+
 }  // namespace cambio::config

@@ -7,7 +7,6 @@
 #include <numbers>
 #include <set>
 
-#include "cambio/canopen/pdo_layout.hpp"
 #include "format.hpp"
 
 namespace cambio::config {
@@ -501,97 +500,6 @@ void check_kinematic_tree(const RigConfig& rig, std::vector<JointEntry>& joints,
   }
 }
 
-/// Buses exist, socketcan groups have one, node ids are unique per bus and the joint loop's
-/// traffic fits the bus.
-void check_can(const RigConfig& rig, std::vector<JointEntry>& joints,
-               std::vector<GroupEntry>& groups, std::vector<MapReader>& bus_readers) {
-  std::vector<std::string> bus_names;
-  for (const auto& bus : rig.can_buses) bus_names.push_back(bus.name);
-  // node id -> joint, per bus.
-  std::map<std::string, std::map<int, std::string>> node_owner;
-  for (std::size_t g = 0; g < rig.groups.size(); ++g) {
-    const auto& group = rig.groups[g];
-    auto& reader = groups[g].reader;
-    if (group.can_bus.empty()) {
-      if (group.backend == "socketcan") {
-        reader.error("can_bus",
-                     "missing key (a socketcan group needs can_bus naming one of "
-                     "can_buses: " +
-                         (bus_names.empty() ? std::string("none defined") : join(bus_names)) + ")");
-      }
-      continue;
-    }
-    if (rig.find_can_bus(group.can_bus) == nullptr) {
-      reader.error("can_bus", unknown_name_message("one of can_buses", group.can_bus, bus_names));
-      continue;
-    }
-    for (const auto& joint_name : group.joints) {
-      const JointConfig* joint = rig.find_joint(joint_name);
-      if (joint == nullptr) continue;
-      const auto j = static_cast<std::size_t>(joint - rig.joints.data());
-      if (!joint->can) {
-        if (group.backend == "socketcan") {
-          joints[j].reader.error("can", "missing key (a joint of socketcan group " + group.name +
-                                            " needs can: {node_id, gear_ratio, "
-                                            "encoder_counts_per_rev})");
-        }
-        continue;
-      }
-      if (joint->can->node_id < 1) continue;  // Already reported as out of range.
-      const auto [owner, inserted] =
-          node_owner[group.can_bus].emplace(joint->can->node_id, joint->name);
-      if (!inserted) {
-        joints[j].can->error("node_id", "expected a node id unique on bus " + group.can_bus +
-                                            ", found " + std::to_string(joint->can->node_id) +
-                                            " (already used by " + owner->second + ")");
-      }
-    }
-  }
-  for (std::size_t b = 0; b < rig.can_buses.size(); ++b) {
-    const auto& bus = rig.can_buses[b];
-    const CanBusLoad load = can_bus_load(rig, bus);
-    if (load.load <= kMaxCanBusLoad) continue;
-    // The advice names the group that takes the most of the bus: the rate it may run at with the
-    // others unchanged, or that it needs a bus of its own.
-    const auto largest = std::max_element(
-        load.groups.begin(), load.groups.end(),
-        [](const CanGroupLoad& x, const CanGroupLoad& y) { return x.bit_s < y.bit_s; });
-    std::string traffic;
-    for (const auto& group : load.groups) {
-      traffic += (traffic.empty() ? "" : ", ") + group.group + " " + std::to_string(group.drives) +
-                 (group.drives == 1 ? " drive at " : " drives at ") + format_number(group.rate_hz) +
-                 " Hz";
-    }
-    const double budget_bit_s = kMaxCanBusLoad * static_cast<double>(bus.bitrate_bit_s);
-    const double max_rate_hz =
-        (budget_bit_s - (load.bit_s - largest->bit_s) - largest->heartbeat_bit_s) /
-        largest->bits_per_cycle;
-    const double needed_bitrate_bit_s = std::ceil(load.bit_s / kMaxCanBusLoad);
-    const JointGroupConfig* group = rig.find_group(largest->group);
-    std::string advice;
-    if (max_rate_hz >= kMinRate_hz) {
-      advice =
-          group != nullptr && group->own_rate
-              ? "lower groups." + largest->group + ".rate_hz to at most "
-              : "set groups." + largest->group + ".rate_hz (now loops.joint.rate_hz) to at most ";
-      advice += format_number(std::floor(max_rate_hz)) + " Hz";
-    } else {
-      advice = "give group " + largest->group + " a bus of its own";
-    }
-    if (!bus.fd && needed_bitrate_bit_s <= 1'000'000) {
-      advice += ", raise bitrate_bit_s to at least " + format_number(needed_bitrate_bit_s);
-    }
-    advice += " or split the groups over more buses";
-    bus_readers[b].error(
-        "bitrate_bit_s",
-        "expected a bitrate that carries the joint loops' CANopen traffic within " +
-            format_number(kMaxCanBusLoad * 100) + "% (" + traffic + ": " +
-            format_number(std::round(load.bit_s)) + " bit/s worst case), found " +
-            std::to_string(bus.bitrate_bit_s) + " bit/s (" +
-            format_number(std::round(load.load * 1000) / 10) + "% load); " + advice);
-  }
-}
-
 void check_stereo(const RigConfig& rig, MapReader& r,
                   const std::vector<std::string>& camera_names) {
   const auto& stereo = *rig.stereo;
@@ -644,53 +552,6 @@ std::vector<LoopConfig> default_loops() {
       LoopConfig{"perception", 60.0, 0, -1, OverrunPolicy::kSkip},
       LoopConfig{"camera", 30.0, 0, -1, OverrunPolicy::kSkip},
   };
-}
-
-int can_frame_worst_case_bits(int data_bytes) {
-  const int stuffed_bits = 34 + 8 * data_bytes;  // SOF through CRC: the bits stuffing applies to.
-  return 47 + 8 * data_bytes + (stuffed_bits - 1) / 4;
-}
-
-CanBusLoad can_bus_load(const RigConfig& rig, const CanBusConfig& bus) {
-  CanBusLoad result;
-  if (bus.bitrate_bit_s <= 0) return result;
-  for (const auto& group : rig.groups) {
-    if (group.backend != "socketcan" || group.can_bus != bus.name) continue;
-    hal::CanGroupSettings settings;
-    settings.velocity_feedforward = group.can.velocity_feedforward;
-    settings.effort_feedforward = group.can.effort_feedforward;
-    settings.velocity_feedback = group.can.velocity_feedback;
-    settings.effort_feedback = group.can.effort_feedback;
-    CanGroupLoad load;
-    load.group = group.name;
-    load.rate_hz = group.rate_hz;
-    for (const auto& joint_name : group.joints) {
-      const JointConfig* joint = rig.find_joint(joint_name);
-      if (joint == nullptr) continue;
-      const canopen::PdoLayout layout = canopen::pdo_layout(
-          joint->servo.command == ServoCommandMode::kVelocity ? hal::CommandMode::kVelocity
-                                                              : hal::CommandMode::kPosition,
-          settings);
-      for (const auto* pdos : {&layout.rpdos, &layout.tpdos}) {
-        for (const auto& pdo : *pdos) {
-          if (!pdo.empty()) load.bits_per_cycle += can_frame_worst_case_bits(pdo.bytes());
-        }
-      }
-      ++load.drives;
-    }
-    load.bits_per_cycle += can_frame_worst_case_bits(0);  // The SYNC.
-    load.heartbeat_bit_s =
-        load.drives * can_frame_worst_case_bits(1) / group.can.heartbeat_period_s;
-    load.bit_s = load.bits_per_cycle * load.rate_hz + load.heartbeat_bit_s;
-    result.bit_s += load.bit_s;
-    result.groups.push_back(std::move(load));
-  }
-  result.load = result.bit_s / static_cast<double>(bus.bitrate_bit_s);
-  return result;
-}
-
-double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus) {
-  return can_bus_load(rig, bus).load;
 }
 
 RigConfig read_rig(MapReader root, const std::string& file) {
@@ -825,6 +686,15 @@ RigConfig read_rig(MapReader root, const std::string& file) {
 
   // Consistency across sections, on what was read. Some checks walk the joints once per joint:
   // with too many joints (already reported) they are skipped.
+  for (const auto& joint : joints) {
+    joint.reader.record_locations(rig.locations);
+    if (joint.can) joint.can->record_locations(rig.locations);
+  }
+  for (const auto& group : groups) group.reader.record_locations(rig.locations);
+  for (const auto& reader : camera_readers) reader.record_locations(rig.locations);
+  for (const auto& reader : touch_readers) reader.record_locations(rig.locations);
+  for (const auto& reader : bus_readers) reader.record_locations(rig.locations);
+
   if (too_many_joints) root.issues()->throw_if_any();
   const std::vector<std::string> joint_names = names_of(rig.joints);
   check_group_membership(rig, joints, groups, joint_names);
@@ -845,7 +715,6 @@ RigConfig read_rig(MapReader root, const std::string& file) {
     }
   }
   if (rig.stereo) check_stereo(rig, *stereo_reader, names_of(rig.cameras));
-  check_can(rig, joints, groups, bus_readers);
 
   root.issues()->throw_if_any();
   return rig;

@@ -163,7 +163,7 @@ TEST(PdoLayout, MinimumSetAndOptionalObjects) {
   EXPECT_TRUE(minimal.rpdos[1].empty());
   EXPECT_EQ(minimal.tpdos[0].bytes(), 6);
   EXPECT_TRUE(minimal.tpdos[1].empty());
-  hal::CanGroupSettings all;
+  canopen::CanGroupSettings all;
   all.velocity_feedforward = all.effort_feedforward = true;
   all.velocity_feedback = all.effort_feedback = true;
   const PdoLayout full = pdo_layout(hal::CommandMode::kPosition, all);

@@ -368,32 +368,6 @@ TEST(BadRig, StereoBaselineDisagreesWithTheEyeJoints) {
   EXPECT_NO_THROW(load_rig_from_string(test::patched(lines, line, "  baseline_m: 0.1200005"), "t"));
 }
 
-TEST(BadRig, SocketcanGroupWithoutABus) {
-  expect_single_issue(
-      issues_of(small_rig_with(25, "  head: {backend: socketcan, joints: [pan, tilt]}")), 25, 9,
-      "groups.head.can_bus", "a socketcan group needs can_bus");
-  expect_single_issue(issues_of(small_rig_with(
-                          25, "  head: {backend: socketcan, joints: [pan, tilt], can_bus: can9}")),
-                      25, 60, "groups.head.can_bus",
-                      "expected one of can_buses (can0), found \"can9\"");
-}
-
-TEST(BadRig, SocketcanJointWithoutCanSettings) {
-  auto lines = test::kSmallRigLines;
-  lines[24] = "  head: {backend: socketcan, joints: [pan, tilt], can_bus: can0}";
-  lines.erase(lines.begin() + 22);  // Line 23: tilt's can map.
-  expect_single_issue(issues_of(test::join_lines(lines)), 15, 5, "joints.tilt.can",
-                      "missing key (a joint of socketcan group head needs can:");
-}
-
-TEST(BadRig, DuplicateNodeIdsOnOneBus) {
-  expect_single_issue(
-      issues_of(small_rig_with(
-          23, "    can: {node_id: 1, gear_ratio: 50, encoder_counts_per_rev: 4096}")),
-      23, 20, "joints.tilt.can.node_id",
-      "expected a node id unique on bus can0, found 1 (already used by pan)");
-}
-
 TEST(BadRig, FdDataBitrateWithoutFd) {
   expect_single_issue(
       issues_of(small_rig_with(
@@ -407,41 +381,6 @@ TEST(BadRig, FdDataBitrateWithoutFd) {
       "test.yaml");
   EXPECT_TRUE(rig.can_buses[0].fd);
   EXPECT_EQ(rig.can_buses[0].data_bitrate_bit_s, 5'000'000);
-}
-
-TEST(CanLoad, FrameSizesAreTheWorstCaseClosedForm) {
-  EXPECT_EQ(can_frame_worst_case_bits(8), 135);
-  EXPECT_EQ(can_frame_worst_case_bits(0), 55);
-}
-
-TEST(BadRig, JointLoopTrafficExceedsTheBus) {
-  auto lines = test::split_lines(test::read_text(test::shipped_rig_path("cambio.yaml")));
-  const auto line_of = [&](const std::string& start) {
-    const auto it = std::find_if(lines.begin(), lines.end(),
-                                 [&](const std::string& line) { return line.starts_with(start); });
-    EXPECT_NE(it, lines.end()) << start;
-    return static_cast<int>(it - lines.begin()) + 1;
-  };
-  const int can0_line = line_of("  can0: ");
-  ASSERT_EQ(lines.at(static_cast<std::size_t>(can0_line - 1)),
-            "  can0: {interface: can0, bitrate_bit_s: 1000000}");
-  // The head's five drives at a 1 kHz rate of their own: 5 x (115 + 115) + 55 = 1205 bits per
-  // cycle and 5 x 65 bits of heartbeat every 100 ms, 1208250 bit/s: 120.8% of 1 Mbit/s. With
-  // 60% of the bus, 600000 - 3250 bit/s of heartbeats leave 1205 x 495.2 Hz.
-  const auto issues =
-      issues_of(test::patched(lines, line_of("  head: "),
-                              "  head: {backend: socketcan, joints: [neck_pan, neck_tilt, "
-                              "eye_tilt, left_eye_pan, right_eye_pan], can_bus: can0, rate_hz: "
-                              "1000}"));
-  ASSERT_EQ(issues.size(), 1u) << describe(issues);
-  EXPECT_EQ(issues[0].line, can0_line);
-  EXPECT_EQ(issues[0].column, 42);
-  EXPECT_EQ(issues[0].key_path, "can_buses.can0.bitrate_bit_s");
-  for (const std::string text :
-       {"within 60% (head 5 drives at 1000 Hz: 1208250 bit/s worst case)", "120.8% load",
-        "lower groups.head.rate_hz to at most 495 Hz", "split the groups over more buses"}) {
-    EXPECT_NE(issues[0].message.find(text), std::string::npos) << issues[0].message;
-  }
 }
 
 TEST(BadRig, AngleInBothDegreesAndRadians) {

@@ -89,5 +89,35 @@ TEST(BackendFactory, ABackendThatCannotFollowAGroupSaysSo) {
   }
 }
 
+TEST(BackendFactory, CheckRunsEveryRegisteredBackendsCheckerOnTheWholeRig) {
+  BackendFactory factory;
+  auto maker = [](const HardwareInfo&, const BackendContext& context) {
+    return std::unique_ptr<Backend>(std::make_unique<RecordingBackend>(context));
+  };
+  // "b" wants each group to have two joints; "a" has no checker; "c" objects to nothing.
+  factory.register_backend("b", maker, {}, [](const HardwareInfo& hardware) {
+    std::vector<SettingProblem> problems;
+    for (const auto& group : hardware.groups) {
+      if (group.joints.size() != 2) {
+        problems.push_back({"groups." + group.name + ".joints", "expected 2 joints"});
+      }
+    }
+    return problems;
+  });
+  factory.register_backend("a", maker);
+  factory.register_backend("c", maker, {},
+                           [](const HardwareInfo&) { return std::vector<SettingProblem>{}; });
+  HardwareInfo hardware;
+  hardware.groups.push_back({"head", "a", {"pan", "tilt"}, {}, 0.0});
+  hardware.groups.push_back({"arm", "c", {"elbow"}, {}, 0.0});
+  // A backend checks its settings wherever they are, not only on the groups that name it.
+  const auto problems = factory.check(hardware);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].key_path, "groups.arm.joints");
+  // Registering a name again without a checker drops the old one.
+  factory.register_backend("b", maker);
+  EXPECT_TRUE(factory.check(hardware).empty());
+}
+
 }  // namespace
 }  // namespace cambio::hal

@@ -8,14 +8,16 @@
 
 namespace cambio::canopen {
 
-CanJointGroup::CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDriveInfo> drives,
-                             double rate_hz, hal::CanBus& bus, const hal::Clock& clock)
+CanJointGroup::CanJointGroup(hal::JointGroupInfo info, CanGroupSettings settings,
+                             std::vector<JointDriveInfo> drives, double rate_hz, hal::CanBus& bus,
+                             const hal::Clock& clock)
     : info_(std::move(info)),
+      settings_(settings),
       rate_hz_(rate_hz),
       bus_(bus),
       clock_(clock),
-      stale_after_syncs_(std::max(1, info_.can.stale_after_missed_syncs)),
-      sdo_timeout_ns_(static_cast<std::int64_t>(std::llround(info_.can.sdo_timeout_s * 1e9))) {
+      stale_after_syncs_(std::max(1, settings_.stale_after_missed_syncs)),
+      sdo_timeout_ns_(static_cast<std::int64_t>(std::llround(settings_.sdo_timeout_s * 1e9))) {
   if (drives.size() != info_.joints.size() || info_.limits.size() != info_.joints.size()) {
     throw std::invalid_argument("CAN joint group '" + info_.name +
                                 "': one drive and one set of limits per joint are needed");
@@ -24,12 +26,12 @@ CanJointGroup::CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDri
     throw std::invalid_argument("CAN joint group '" + info_.name + "': rate must be > 0 Hz");
   }
   const hal::CommandMode mode = drives.empty() ? hal::CommandMode::kPosition : drives[0].mode;
-  layout_ = pdo_layout(mode, info_.can);
+  layout_ = pdo_layout(mode, settings_);
   slot_of_node_.fill(-1);
   const auto heartbeat_ns =
-      static_cast<std::int64_t>(std::llround(info_.can.heartbeat_period_s * 1e9));
+      static_cast<std::int64_t>(std::llround(settings_.heartbeat_period_s * 1e9));
   for (std::size_t k = 0; k < drives.size(); ++k) {
-    const hal::JointDriveInfo& drive = drives[k];
+    const JointDriveInfo& drive = drives[k];
     const std::string joint =
         "CAN joint group '" + info_.name + "', joint '" + info_.joints[k] + "'";
     if (drive.node_id < kMinNodeId || drive.node_id > kMaxNodeId) {

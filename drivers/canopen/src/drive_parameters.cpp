@@ -44,11 +44,9 @@ InterpolationPeriod interpolation_period(double period_s) {
 }
 
 std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
-                                                const hal::JointGroupInfo& group, double rate_hz) {
-  if (!joint.drive) {
-    throw std::invalid_argument("joint '" + joint.name + "' has no CAN drive");
-  }
-  const hal::JointDriveInfo& drive = *joint.drive;
+                                                const JointDriveInfo& drive,
+                                                const hal::JointGroupInfo& group,
+                                                const CanGroupSettings& settings, double rate_hz) {
   const std::string name = "joint '" + joint.name + "'";
   if (drive.encoder_counts_per_rev <= 0 || !std::isfinite(drive.gear_ratio) ||
       drive.gear_ratio == 0.0) {
@@ -90,10 +88,10 @@ std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
     writes.push_back({cia402::kFollowingErrorWindow, static_cast<std::uint32_t>(window), 4});
   }
 
-  const double heartbeat_ms = std::round(group.can.heartbeat_period_s * 1000.0);
+  const double heartbeat_ms = std::round(settings.heartbeat_period_s * 1000.0);
   if (!(heartbeat_ms >= 0.0 && heartbeat_ms <= 65535.0)) {
     throw std::invalid_argument("joint group '" + group.name + "': heartbeat period " +
-                                std::to_string(group.can.heartbeat_period_s) +
+                                std::to_string(settings.heartbeat_period_s) +
                                 " s does not fit 0x1017 (0 .. 65.535 s)");
   }
   writes.push_back(

@@ -45,10 +45,11 @@ class CanJointGroupHandle final : public hal::JointGroup {
 
 }  // namespace
 
-SocketCanBackend::SocketCanBackend(const hal::HardwareInfo& hardware,
+SocketCanBackend::SocketCanBackend(const hal::HardwareInfo& hardware, CanRigInfo can_rig,
                                    const hal::BackendContext& context, BusOpener opener,
                                    SocketCanBackendOptions options)
     : hardware_(hardware),
+      can_rig_(std::move(can_rig)),
       clock_(*context.clock),
       opener_(std::move(opener)),
       options_(std::move(options)) {
@@ -72,26 +73,28 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
     throw std::runtime_error("socketcan: joint group " + quoted(group_name) +
                              " was already made (one writer per group)");
   }
-  const hal::CanBusInfo* bus_info = hardware_.find_can_bus(info->can_bus);
+  const CanGroupInfo* can_group = can_rig_.find_group(group_name);
+  const CanBusInfo* bus_info = can_group != nullptr ? can_rig_.find_bus(can_group->bus) : nullptr;
   if (bus_info == nullptr) {
     throw std::runtime_error("socketcan: joint group " + quoted(group_name) + " names CAN bus " +
-                             quoted(info->can_bus) + ", which the rig's can_buses do not list");
+                             quoted(can_group != nullptr ? can_group->bus : "") +
+                             ", which the rig's can_buses do not list");
   }
-  const auto used = buses_.find(info->can_bus);
+  const auto used = buses_.find(bus_info->name);
   if (used != buses_.end()) {
     throw std::runtime_error("socketcan: joint groups " + quoted(used->second.group) + " and " +
-                             quoted(group_name) + " share CAN bus " + quoted(info->can_bus) +
+                             quoted(group_name) + " share CAN bus " + quoted(bus_info->name) +
                              "; each CAN group produces its bus's SYNC at its own rate, so one "
                              "group per bus");
   }
-  std::vector<hal::JointDriveInfo> drives;
+  std::vector<JointDriveInfo> drives;
   for (const std::string& joint_name : info->joints) {
-    const hal::JointInfo* joint = hardware_.find_joint(joint_name);
-    if (joint == nullptr || !joint->drive) {
+    const JointDriveInfo* drive = can_rig_.find_drive(joint_name);
+    if (drive == nullptr) {
       throw std::runtime_error("socketcan: joint " + quoted(joint_name) + " of group " +
                                quoted(group_name) + " has no CAN drive (can.node_id)");
     }
-    drives.push_back(*joint->drive);
+    drives.push_back(*drive);
   }
   const double rate_hz = info->rate_hz > 0.0 ? info->rate_hz : options_.default_joint_rate_hz;
 
@@ -100,9 +103,10 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
     throw std::runtime_error("socketcan: could not open CAN bus " + quoted(bus_info->name) +
                              " (interface " + quoted(bus_info->interface) + ")");
   }
-  auto group = std::make_unique<CanJointGroup>(*info, std::move(drives), rate_hz, *bus.bus, clock_);
+  auto group = std::make_unique<CanJointGroup>(*info, can_group->settings, std::move(drives),
+                                               rate_hz, *bus.bus, clock_);
   auto handle = std::make_unique<CanJointGroupHandle>(*group);
-  buses_.emplace(info->can_bus, std::move(bus));
+  buses_.emplace(bus_info->name, std::move(bus));
   groups_.emplace(std::string(group_name), std::move(group));
   return handle;
 }
@@ -129,9 +133,11 @@ void SocketCanBackend::configure() {
 }
 
 void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGroupInfo& info) {
-  const double sdo_timeout_s = info.can.sdo_timeout_s;
+  const CanGroupSettings& settings = group.settings();
+  const double sdo_timeout_s = settings.sdo_timeout_s;
   const std::string where = "socketcan: joint group " + quoted(info.name) + " on CAN bus " +
-                            quoted(info.can_bus) + " (" + group.bus().name() + ")";
+                            quoted(can_rig_.find_group(info.name)->bus) + " (" +
+                            group.bus().name() + ")";
   BusPump pump(group.bus(), clock_, options_.waiter);
   std::set<int> booted;
   pump.set_other_frame_handler([&booted](const hal::CanFrame& frame) {
@@ -165,8 +171,8 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
                                  describe_value({{kDeviceType, 0}, 0, 4}, device_type) +
                                  " is not a CiA 402 drive");
       }
-      const std::vector<ObjectWrite> parameters =
-          drive_parameter_writes(joint, info, group.rate_hz());
+      const std::vector<ObjectWrite> parameters = drive_parameter_writes(
+          joint, *can_rig_.find_drive(joint.name), info, settings, group.rate_hz());
       const std::vector<ObjectWrite> pdos = pdo_configuration_writes(node, group.layout());
       write_objects(pump, node, parameters, sdo_timeout_s);
       write_objects(pump, node, pdos, sdo_timeout_s);
@@ -178,7 +184,7 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
       std::vector<ObjectWrite> configuration = parameters;
       configuration.insert(configuration.end(), pdos.begin(), pdos.end());
       group.set_configuration(k, configuration);
-      if (info.can.effort_feedforward || info.can.effort_feedback) {
+      if (settings.effort_feedforward || settings.effort_feedback) {
         // Torque offset and torque actual value count per mille of this (torque_units.hpp).
         const std::uint32_t rated_mnm =
             sdo_read_value(pump, node, cia402::kRatedTorque, sdo_timeout_s);
@@ -250,16 +256,20 @@ void SocketCanBackend::offer(hal::BackendOffers& offers) {
   for (const auto& [name, group] : groups_) offers.offer<const CanJointGroup>(*group);
 }
 
-void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
+void register_socketcan_backend(hal::BackendFactory& factory, CanRigInfo can_rig, BusOpener opener,
                                 SocketCanBackendOptions options) {
+  auto shared_rig = std::make_shared<const CanRigInfo>(std::move(can_rig));
   factory.register_backend(
       SocketCanBackend::kName,
-      [opener = std::move(opener), options = std::move(options)](
+      [shared_rig, opener = std::move(opener), options = std::move(options)](
           const hal::HardwareInfo& hardware, const hal::BackendContext& context) {
         return std::unique_ptr<hal::Backend>(
-            std::make_unique<SocketCanBackend>(hardware, context, opener, options));
+            std::make_unique<SocketCanBackend>(hardware, *shared_rig, context, opener, options));
       },
-      hal::BackendTraits{.paced_by_wall_clock = true});
+      hal::BackendTraits{.paced_by_wall_clock = true},
+      [shared_rig](const hal::HardwareInfo& hardware) {
+        return check_can_rig(hardware, *shared_rig, SocketCanBackend::kName);
+      });
 }
 
 }  // namespace cambio::canopen

@@ -44,7 +44,7 @@ void EmulatedDrive::add_pdo_objects() {
   const int id = config_.node_id;
   using enum DataType;
   using enum Access;
-  const canopen::PdoLayout layout = canopen::pdo_layout(config_.mode, hal::CanGroupSettings{});
+  const canopen::PdoLayout layout = canopen::pdo_layout(config_.mode, canopen::CanGroupSettings{});
   for (int n = 0; n < kPdoCount; ++n) {
     const auto i = static_cast<std::uint16_t>(n);
     const std::uint32_t invalid = n == 0 ? 0u : canopen::kPdoCobIdInvalid;

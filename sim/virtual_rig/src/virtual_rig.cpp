@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cambio/canopen/can_rig_from_config.hpp"
 #include "cambio/config/hardware_description.hpp"
 
 namespace cambio::virtual_rig {
@@ -20,6 +21,7 @@ constexpr std::size_t kMaxFramesPerPass = 256;
 VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
                        VirtualRigOptions options) {
   const hal::HardwareInfo hardware = config::hardware_description(rig);
+  const canopen::CanRigInfo can_rig = canopen::can_rig_from_config(rig);
   const double step_s = 1.0 / rig.sim.physics_rate_hz;
   // The groups a master drives over CAN are those the rig puts on socketcan; a rig with none
   // (as shipped, all on the sim) gets a drive for every group that names a bus. So the virtual
@@ -28,12 +30,13 @@ VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
       std::any_of(hardware.groups.begin(), hardware.groups.end(),
                   [](const hal::JointGroupInfo& group) { return group.backend == "socketcan"; });
   for (const auto& group : hardware.groups) {
-    if (group.can_bus.empty()) continue;
+    const canopen::CanGroupInfo& can_group = *can_rig.find_group(group.name);
+    if (can_group.bus.empty()) continue;
     if (any_socketcan && group.backend != "socketcan") continue;
-    const hal::CanBusInfo* info = hardware.find_can_bus(group.can_bus);
+    const canopen::CanBusInfo* info = can_rig.find_bus(can_group.bus);
     if (info == nullptr) {
       throw std::invalid_argument("virtual rig: group " + group.name + " names CAN bus '" +
-                                  group.can_bus + "', which can_buses does not define");
+                                  can_group.bus + "', which can_buses does not define");
     }
     auto bus = std::find_if(buses_.begin(), buses_.end(),
                             [&](const Bus& b) { return b.info.name == info->name; });
@@ -46,8 +49,9 @@ VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
     for (const auto& joint_name : group.joints) {
       const hal::JointInfo* joint = hardware.find_joint(joint_name);
       const config::JointConfig* joint_config = rig.find_joint(joint_name);
-      if (joint == nullptr || joint_config == nullptr || !joint->drive) continue;
-      const hal::JointDriveInfo& drive = *joint->drive;
+      const canopen::JointDriveInfo* drive_info = can_rig.find_drive(joint_name);
+      if (joint == nullptr || joint_config == nullptr || drive_info == nullptr) continue;
+      const canopen::JointDriveInfo& drive = *drive_info;
       for (const auto& other : bus->drives) {
         if (other->node_id() == drive.node_id) {
           throw std::invalid_argument("virtual rig: joint " + joint_name + " has node id " +
@@ -65,7 +69,7 @@ VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
       config.gear_ratio = drive.gear_ratio;
       config.encoder_counts_per_rev = drive.encoder_counts_per_rev;
       config.following_error_window_rad = drive.following_error_window_rad;
-      config.heartbeat_period_s = group.can.heartbeat_period_s;
+      config.heartbeat_period_s = can_group.settings.heartbeat_period_s;
       config.mode = drive.mode;
       if (joint->limits.max_effort_nm > 0.0) config.rated_torque_nm = joint->limits.max_effort_nm;
       bus->drives.push_back(std::make_unique<EmulatedDrive>(config, *bus->bus));

@@ -54,17 +54,15 @@ class SwitchableBus final : public hal::CanBus {
 };
 
 struct Fixture {
-  explicit Fixture(int joints = 1, hal::CanGroupSettings settings = {}) {
+  explicit Fixture(int joints = 1, canopen::CanGroupSettings settings = {}) {
     hal::JointGroupInfo info;
     info.name = "head";
     info.backend = "socketcan";
-    info.can_bus = "can0";
-    info.can = settings;
-    std::vector<hal::JointDriveInfo> drive_infos;
+    std::vector<canopen::JointDriveInfo> drive_infos;
     for (int k = 0; k < joints; ++k) {
       info.joints.push_back("j" + std::to_string(k));
       info.limits.push_back({-1.0, 1.0, 2.0, 10.0, 0.0});
-      hal::JointDriveInfo drive;
+      canopen::JointDriveInfo drive;
       drive.node_id = 10 + k;
       drive.gear_ratio = 10.0;
       drive.encoder_counts_per_rev = 10000;
@@ -72,7 +70,7 @@ struct Fixture {
       drives.push_back(std::make_unique<testing::TestDrive>(
           network.add_endpoint("drive" + std::to_string(k)), drive.node_id));
     }
-    group = std::make_unique<CanJointGroup>(info, drive_infos, 1000.0, bus, clock);
+    group = std::make_unique<CanJointGroup>(info, settings, drive_infos, 1000.0, bus, clock);
     BusPump pump(master, clock, [this](hal::CanBus&, std::int64_t) { step_drives(); });
     for (int k = 0; k < joints; ++k) {
       const int node = 10 + k;
@@ -200,7 +198,7 @@ TEST(CanJointGroup, FaultHoldsTheWholeGroupUntilResetThenReEnablesWithoutJump) {
 }
 
 TEST(CanJointGroup, HeartbeatLossLatchesWithinThreePeriods) {
-  hal::CanGroupSettings settings;
+  canopen::CanGroupSettings settings;
   settings.heartbeat_period_s = 0.1;
   Fixture f(1, settings);
   std::int64_t lost_at_ns = 0;
@@ -337,7 +335,7 @@ TEST(CanJointGroup, AReconfigurationTheDriveRefusesStaysFaultedAndSaysWhy) {
 }
 
 TEST(CanJointGroup, EffortIsPerMilleOfRatedMotorTorqueTimesGear) {
-  hal::CanGroupSettings settings;
+  canopen::CanGroupSettings settings;
   settings.effort_feedforward = true;
   settings.effort_feedback = true;
   Fixture f(1, settings);  // Gear 10, rated 2 N m.
@@ -431,7 +429,7 @@ TEST(CanJointGroup, EmergencyCodeIsKeptUntilFaultReset) {
 }
 
 TEST(CanJointGroup, StaleAfterTheConfiguredMissedSyncs) {
-  hal::CanGroupSettings settings;
+  canopen::CanGroupSettings settings;
   settings.stale_after_missed_syncs = 3;
   Fixture f(1, settings);
   (void)f.cycle();
@@ -514,7 +512,7 @@ TEST(CanJointGroup, OneSendBatchPerCycleCarriesRpdosThenSync) {
 }
 
 TEST(CanJointGroup, ReadWriteSyncDoNotAllocate) {
-  hal::CanGroupSettings settings;
+  canopen::CanGroupSettings settings;
   settings.heartbeat_period_s = 0.1;
   settings.effort_feedforward = true;
   settings.effort_feedback = true;

@@ -43,12 +43,12 @@ std::vector<ObjectWrite> expected_csp_minimal_node3() {
 }
 
 TEST(PdoConfiguration, MinimalCspLayoutIsWrittenInCia301Order) {
-  const PdoLayout layout = pdo_layout(hal::CommandMode::kPosition, hal::CanGroupSettings{});
+  const PdoLayout layout = pdo_layout(hal::CommandMode::kPosition, canopen::CanGroupSettings{});
   EXPECT_EQ(pdo_configuration_writes(3, layout), expected_csp_minimal_node3());
 }
 
 TEST(PdoConfiguration, FeedbackAndFeedForwardAddTheirPdos) {
-  hal::CanGroupSettings settings;
+  canopen::CanGroupSettings settings;
   settings.velocity_feedforward = true;
   settings.velocity_feedback = true;
   settings.effort_feedback = true;
@@ -77,8 +77,8 @@ struct Bench {
 
 TEST(PdoConfiguration, TheDriveReceivesExactlyTheSequence) {
   Bench bench;
-  const auto writes =
-      pdo_configuration_writes(3, pdo_layout(hal::CommandMode::kPosition, hal::CanGroupSettings{}));
+  const auto writes = pdo_configuration_writes(
+      3, pdo_layout(hal::CommandMode::kPosition, canopen::CanGroupSettings{}));
   write_objects(bench.pump, 3, writes, 0.1);
   const auto expected = expected_csp_minimal_node3();
   ASSERT_EQ(bench.drive.writes.size(), expected.size());
@@ -100,20 +100,24 @@ hal::JointInfo pan_joint() {
   hal::JointInfo joint;
   joint.name = "pan";
   joint.limits = {-1.0, 2.0, 3.0, 10.0, 0.0};
-  hal::JointDriveInfo drive;
+  return joint;
+}
+
+canopen::JointDriveInfo pan_drive() {
+  canopen::JointDriveInfo drive;
   drive.node_id = 3;
   drive.gear_ratio = 100.0;
   drive.encoder_counts_per_rev = 4096;
   drive.following_error_window_rad = 0.01;
-  joint.drive = drive;
-  return joint;
+  return drive;
 }
 
 TEST(DriveParameters, ValuesFollowTheRigInDriveUnits) {
   hal::JointGroupInfo group;
   group.name = "head";
-  group.can.heartbeat_period_s = 0.05;
-  const auto writes = drive_parameter_writes(pan_joint(), group, 1000.0);
+  canopen::CanGroupSettings settings;
+  settings.heartbeat_period_s = 0.05;
+  const auto writes = drive_parameter_writes(pan_joint(), pan_drive(), group, settings, 1000.0);
   const double counts_per_rad = 100.0 * 4096.0 / (2.0 * 3.14159265358979323846);  // 65189.9
   const auto find = [&](ObjectAddress object) {
     for (const auto& write : writes) {
@@ -146,7 +150,7 @@ TEST(DriveParameters, AMismatchNamesNodeObjectWrittenAndRead) {
   Bench bench;
   hal::JointGroupInfo group;
   group.name = "head";
-  const auto writes = drive_parameter_writes(pan_joint(), group, 1000.0);
+  const auto writes = drive_parameter_writes(pan_joint(), pan_drive(), group, {}, 1000.0);
   // The drive caps its max profile velocity at 100000 counts/s.
   bench.drive.clamp_on_write[testing::TestDrive::key(0x607F, 0)] = 100000;
   write_objects(bench.pump, 3, writes, 0.1);
@@ -158,7 +162,7 @@ TEST(DriveParameters, AMismatchNamesNodeObjectWrittenAndRead) {
 }
 
 TEST(PdoCodec, PacksAndUnpacksLittleEndianInMappingOrder) {
-  const PdoLayout layout = pdo_layout(hal::CommandMode::kPosition, hal::CanGroupSettings{});
+  const PdoLayout layout = pdo_layout(hal::CommandMode::kPosition, canopen::CanGroupSettings{});
   DriveTargets targets;
   targets.controlword = 0x000F;
   targets.target_position_counts = -2;

@@ -34,7 +34,6 @@ hal::HardwareInfo pan_tilt() {
   hal::JointGroupInfo group;
   group.name = "head";
   group.backend = "socketcan";
-  group.can_bus = "can0";
   group.rate_hz = 500.0;
   for (int k = 0; k < 2; ++k) {
     hal::JointInfo joint;
@@ -42,18 +41,27 @@ hal::HardwareInfo pan_tilt() {
     joint.group = "head";
     joint.parent = "base";
     joint.limits = {-1.0, 1.0, 2.0, 10.0, 0.0};
-    hal::JointDriveInfo drive;
-    drive.node_id = 1 + k;
-    drive.gear_ratio = 50.0;
-    drive.encoder_counts_per_rev = 4096;
-    joint.drive = drive;
     hardware.joints.push_back(joint);
     group.joints.push_back(joint.name);
     group.limits.push_back(joint.limits);
   }
   hardware.groups.push_back(group);
-  hardware.can_buses.push_back({"can0", "vcan0", 1'000'000, false, 0});
   return hardware;
+}
+
+/// pan_tilt()'s CANopen side: its group on bus can0 (interface vcan0), drives 1 and 2.
+CanRigInfo pan_tilt_can() {
+  CanRigInfo can_rig;
+  can_rig.buses.push_back({"can0", "vcan0", 1'000'000, false, 0});
+  can_rig.groups.push_back({"head", "can0", {}});
+  for (int k = 0; k < 2; ++k) {
+    JointDriveInfo drive;
+    drive.node_id = 1 + k;
+    drive.gear_ratio = 50.0;
+    drive.encoder_counts_per_rev = 4096;
+    can_rig.drives[k == 0 ? "pan" : "tilt"] = drive;
+  }
+  return can_rig;
 }
 
 struct Fixture {
@@ -61,18 +69,22 @@ struct Fixture {
     drives.push_back(std::make_unique<testing::TestDrive>(network.add_endpoint("d1"), 1));
     drives.push_back(std::make_unique<testing::TestDrive>(network.add_endpoint("d2"), 2));
     for (auto& drive : drives) drive->nmt_state = 0x05;  // Running from an earlier session.
+    backend = make_backend();
+  }
+  /// A backend made by the registered factory for `hardware` and `can_rig` as they are now.
+  std::unique_ptr<hal::Backend> make_backend() {
     SocketCanBackendOptions options;
     options.waiter = [this](hal::CanBus&, std::int64_t) { step(); };
     register_socketcan_backend(
-        factory,
-        [this](const hal::CanBusInfo& info) {
+        factory, can_rig,
+        [this](const canopen::CanBusInfo& info) {
           opened.push_back(info.interface);
           return std::make_unique<BorrowedBus>(master);
         },
         options);
     hal::BackendContext context;
     context.clock = &clock;
-    backend = factory.make("socketcan", hardware, context, "joint group 'head'");
+    return factory.make("socketcan", hardware, context, "joint group 'head'");
   }
   void step() {
     for (auto& drive : drives) drive->step();
@@ -85,6 +97,7 @@ struct Fixture {
   std::vector<std::unique_ptr<testing::TestDrive>> drives;
   std::vector<std::string> opened;
   hal::HardwareInfo hardware = pan_tilt();
+  CanRigInfo can_rig = pan_tilt_can();
   hal::BackendFactory factory;
   std::unique_ptr<hal::Backend> backend;
 };
@@ -173,11 +186,9 @@ TEST(SocketCanBackend, ASilentDriveIsNamed) {
 
 TEST(SocketCanBackend, ARebootedDriveGetsItsParametersAndPdosAgainOnFaultReset) {
   Fixture f;
-  f.hardware.groups[0].can.effort_feedforward = true;
+  f.can_rig.groups[0].settings.effort_feedforward = true;
   f.drives[1]->set(0x6076, 0, 1500, 4);
-  hal::BackendContext context;
-  context.clock = &f.clock;
-  auto backend = f.factory.make("socketcan", f.hardware, context, "test");
+  auto backend = f.make_backend();
   auto group = backend->make_joint_group("head");
   backend->configure();
   f.step();
@@ -220,11 +231,9 @@ TEST(SocketCanBackend, ARebootedDriveGetsItsParametersAndPdosAgainOnFaultReset) 
 
 TEST(SocketCanBackend, EffortWithoutARatedTorqueIsRefused) {
   Fixture f;
-  f.hardware.groups[0].can.effort_feedforward = true;
+  f.can_rig.groups[0].settings.effort_feedforward = true;
   f.drives[0]->set(0x6076, 0, 0, 4);
-  hal::BackendContext context;
-  context.clock = &f.clock;
-  auto backend = f.factory.make("socketcan", f.hardware, context, "test");
+  auto backend = f.make_backend();
   auto group = backend->make_joint_group("head");
   try {
     backend->configure();

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cambio/can/in_process_can_bus.hpp"
+#include "cambio/canopen/can_rig_from_config.hpp"
 #include "cambio/canopen/cia402.hpp"
 #include "cambio/canopen/protocol.hpp"
 #include "cambio/canopen/socketcan_backend.hpp"
@@ -65,7 +66,7 @@ struct MasterAndRig {
     rig = config::load_rig(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/pan_tilt.yaml",
                            {{"groups.pan_tilt.backend", "socketcan"}});
     hardware = config::hardware_description(rig);
-    drives = std::make_unique<VirtualRig>(rig, [this](const hal::CanBusInfo& info) {
+    drives = std::make_unique<VirtualRig>(rig, [this](const canopen::CanBusInfo& info) {
       return std::make_unique<EndpointRef>(network.add_endpoint("rig " + info.name));
     });
     canopen::SocketCanBackendOptions options;
@@ -75,8 +76,8 @@ struct MasterAndRig {
     hal::BackendContext context;
     context.clock = &clock;
     backend = std::make_unique<canopen::SocketCanBackend>(
-        hardware, context,
-        [this](const hal::CanBusInfo& info) {
+        hardware, canopen::can_rig_from_config(rig), context,
+        [this](const canopen::CanBusInfo& info) {
           return std::make_unique<EndpointRef>(network.add_endpoint("master " + info.name), &sent);
         },
         options);

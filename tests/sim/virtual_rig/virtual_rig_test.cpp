@@ -30,7 +30,7 @@ TEST(VirtualRig, OneDrivePerCanJointOnTheGroupsBus) {
   can::InProcessCanNetwork network;
   hal::CanBus& master = network.add_endpoint("master");
   std::vector<std::string> opened;
-  VirtualRig rig(pan_tilt(), [&](const hal::CanBusInfo& info) {
+  VirtualRig rig(pan_tilt(), [&](const canopen::CanBusInfo& info) {
     opened.push_back(info.name + "=" + info.interface);
     return std::make_unique<EndpointRef>(network.add_endpoint(info.name));
   });
@@ -64,7 +64,7 @@ TEST(VirtualRig, RefusesFaultsForNodesItDoesNotHave) {
   try {
     VirtualRig rig(
         pan_tilt(),
-        [&](const hal::CanBusInfo& info) {
+        [&](const canopen::CanBusInfo& info) {
           return std::make_unique<EndpointRef>(network.add_endpoint(info.name));
         },
         options);
@@ -76,7 +76,7 @@ TEST(VirtualRig, RefusesFaultsForNodesItDoesNotHave) {
 
 TEST(VirtualRig, ABusThatCannotOpenStopsConstruction) {
   EXPECT_THROW(VirtualRig(pan_tilt(),
-                          [](const hal::CanBusInfo& info) -> std::unique_ptr<hal::CanBus> {
+                          [](const canopen::CanBusInfo& info) -> std::unique_ptr<hal::CanBus> {
                             throw std::runtime_error("no interface " + info.interface);
                           }),
                std::runtime_error);

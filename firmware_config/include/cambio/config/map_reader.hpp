@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -157,6 +158,8 @@ class MapReader {
   /// message: for a check made later, by a layer that knows what the loader cannot (which
   /// backends this build carries). Marks nothing as read.
   ConfigIssue location_of(std::string_view key) const;
+  /// Records where this map and each of its keys are, by key path, into `index`.
+  void record_locations(std::map<std::string, ConfigIssue, std::less<>>& index) const;
   const std::shared_ptr<IssueList>& issues() const { return issues_; }
 
  private:

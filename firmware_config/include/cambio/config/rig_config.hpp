@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cambio/config/config_error.hpp"
@@ -63,7 +64,7 @@ struct JointConfig {
 };
 
 /// What a CANopen group needs besides its joints' drives (groups.<g>.can); the defaults are
-/// hal::CanGroupSettings'.
+/// canopen::CanGroupSettings'.
 struct JointGroupCanConfig {
   double heartbeat_period_s = 0.1;  ///< Each drive's heartbeat (0x1017), from heartbeat_period_ms.
   int stale_after_missed_syncs = 3;
@@ -200,6 +201,14 @@ struct RigConfig {
   const CameraConfig* find_camera(const std::string& camera_name) const;
   const LoopConfig* find_loop(const std::string& loop_name) const;
   const CanBusConfig* find_can_bus(const std::string& bus_name) const;
+
+  /// Where the rig file's joint, group, camera, touch sensor and bus entries and their keys are,
+  /// by key path: for checks made after loading by a layer that knows what the loader cannot (a
+  /// backend's check names the key it refuses).
+  std::map<std::string, ConfigIssue, std::less<>> locations;
+  /// The location of `key_path`, else of the nearest enclosing entry recorded (a missing key is
+  /// reported at its map), with `key_path` and `message` as given.
+  ConfigIssue locate(std::string_view key_path, std::string message) const;
 };
 
 }  // namespace cambio::config

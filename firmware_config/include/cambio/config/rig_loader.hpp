@@ -39,7 +39,8 @@ inline constexpr int kMaxCpu = 1023;
 /// with every problem found: unknown or missing keys, wrong types, out-of-range values and
 /// inconsistent settings (a lower limit above the upper one, a rate of 0, a group naming an
 /// unknown joint, a joint in two groups, a stereo baseline that disagrees with the eyes' joint
-/// origins, a socketcan group without a bus, duplicate CAN node ids on one bus, ...).
+/// origins, ...). What a backend needs of its own sections (a CAN group's bus, unique node ids,
+/// the bus load) is that backend's check (hal::BackendFactory::check), made by the application.
 RigConfig load_rig(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
 /// The same from YAML text (tests); `name` stands for the file in messages.
 RigConfig load_rig_from_string(const std::string& yaml, const std::string& name,
@@ -50,41 +51,5 @@ RigConfig read_rig(MapReader root, const std::string& file);
 /// Default loops when the rig file does not define them: joint 1000 Hz, control 200 Hz,
 /// perception 60 Hz, camera 30 Hz.
 std::vector<LoopConfig> default_loops();
-
-/// Bits one classic CAN frame with an 11-bit identifier and `data_bytes` data bytes takes on the
-/// wire in the worst case: 47 bits of framing and interframe space, the data, and the most stuff
-/// bits the 34 + 8 * data_bytes stuffed bits can need (8 data bytes: 135 bits; SYNC, 0 bytes: 55).
-int can_frame_worst_case_bits(int data_bytes);
-
-/// One socketcan group's share of its bus, worst case.
-struct CanGroupLoad {
-  std::string group;
-  double rate_hz = 0.0;  ///< The group's joint-loop (SYNC) rate.
-  int drives = 0;
-  /// Per cycle: every drive's mapped PDOs (RPDO1, RPDO2 if feed-forward is mapped, TPDO1, TPDO2
-  /// if feedback is), then one SYNC.
-  int bits_per_cycle = 0;
-  double heartbeat_bit_s = 0.0;  ///< One 1-byte heartbeat frame per drive per period.
-  double bit_s = 0.0;            ///< bits_per_cycle * rate_hz + heartbeat_bit_s.
-};
-
-/// The joint loops' CANopen traffic on one bus.
-struct CanBusLoad {
-  std::vector<CanGroupLoad> groups;  ///< The socketcan groups on the bus, rig order.
-  double bit_s = 0.0;
-  double load = 0.0;  ///< bit_s / the bus's bitrate (1.0 = saturated).
-};
-
-/// Worst-case traffic of the socketcan groups on `bus`, each at its own rate, counting exactly
-/// the PDOs canopen::pdo_layout() maps for its joints' command mode and its feed-forward and
-/// feedback settings. An upper bound for CAN FD buses too (FD frames at the faster data bitrate
-/// take less time). Loading refuses a load above kMaxCanBusLoad.
-CanBusLoad can_bus_load(const RigConfig& rig, const CanBusConfig& bus);
-/// can_bus_load(rig, bus).load.
-double joint_loop_can_load(const RigConfig& rig, const CanBusConfig& bus);
-/// The highest worst-case load a rig may plan for a bus: the rest is headroom for what the model
-/// does not count (SDO, NMT and EMCY traffic, frames retransmitted after an error) and keeps the
-/// lowest-priority PDO's latency within a SYNC period (the usual CANopen design rule).
-inline constexpr double kMaxCanBusLoad = 0.6;
 
 }  // namespace cambio::config

@@ -98,17 +98,45 @@ struct BackendTraits {
   bool paced_by_wall_clock = false;
 };
 
+/// A setting of the rig a backend cannot work with, found before anything is built: where, as the
+/// rig file's key path (e.g. "can_buses.can0.bitrate_bit_s"; the application turns it into a
+/// file:line:column), and what was expected and found.
+struct SettingProblem {
+  std::string key_path;
+  std::string message;
+};
+
 /// Builds backends by the name the rig file gives (`backend: sim`, `backend: socketcan`).
 /// Each backend library registers its maker; a name that is declared but not built, or unknown,
 /// is refused with a message that says which names are available.
 class BackendFactory {
  public:
   using Maker = std::function<std::unique_ptr<Backend>(const HardwareInfo&, const BackendContext&)>;
+  /// A backend's own check of the settings it reads (its section of the rig file, as given to its
+  /// maker), over the whole rig: what it needs and is missing, what cannot work together.
+  using Checker = std::function<std::vector<SettingProblem>(const HardwareInfo&)>;
 
-  void register_backend(std::string name, Maker maker, BackendTraits traits = {}) {
+  void register_backend(std::string name, Maker maker, BackendTraits traits = {},
+                        Checker checker = {}) {
     unbuilt_.erase(name);
     traits_[name] = traits;
+    if (checker) {
+      checkers_[name] = std::move(checker);
+    } else {
+      checkers_.erase(name);
+    }
     makers_[std::move(name)] = std::move(maker);
+  }
+
+  /// Every registered backend's check of `hardware`, in name order: the step `check-config` and
+  /// a run take before anything starts. A backend checks its settings wherever they appear (the
+  /// CANopen backend checks every group that names a bus, whichever backend drives it).
+  std::vector<SettingProblem> check(const HardwareInfo& hardware) const {
+    std::vector<SettingProblem> problems;
+    for (const auto& [name, checker] : checkers_) {
+      for (auto& problem : checker(hardware)) problems.push_back(std::move(problem));
+    }
+    return problems;
   }
 
   /// The traits `name` was registered with; the defaults for a name not registered (make()
@@ -165,6 +193,7 @@ class BackendFactory {
  private:
   std::map<std::string, Maker, std::less<>> makers_;
   std::map<std::string, BackendTraits, std::less<>> traits_;
+  std::map<std::string, Checker, std::less<>> checkers_;
   std::map<std::string, std::string, std::less<>> unbuilt_;
 };
 

@@ -13,19 +13,6 @@
 
 namespace cambio::hal {
 
-/// The CiA 402 drive behind a joint: what a CAN backend needs to address it, convert units and
-/// write its parameters (position limits and max velocity come from the joint's limits).
-struct JointDriveInfo {
-  int node_id = 0;                          ///< CANopen node id, 1..127.
-  double gear_ratio = 1.0;                  ///< Motor turns per joint turn.
-  std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
-  /// CiA 402 following error window (0x6065): the drive faults (EMCY 0x8611) when its position
-  /// lags its demand by more than this. 0 = leave the drive's own setting.
-  double following_error_window_rad = 0.0;
-  /// Cyclic synchronous position (default) or cyclic synchronous velocity.
-  CommandMode mode = CommandMode::kPosition;
-};
-
 /// One revolute joint of the rig tree. Every joint moves a link named after it; its parent is
 /// "base" (the robot's root, fixed in the world) or another joint's link.
 struct JointInfo {
@@ -38,7 +25,6 @@ struct JointInfo {
   Eigen::Vector3d axis_J = Eigen::Vector3d::UnitZ();  ///< Unit vector in the joint frame.
   JointLimits limits;
   double initial_position_rad = 0.0;
-  std::optional<JointDriveInfo> drive;  ///< Set when the rig gives the joint a CAN drive.
 };
 
 struct StereoPairInfo {
@@ -57,19 +43,12 @@ struct TouchSensorInfo {
   double fingertip_y_m = 0.0;
 };
 
-struct CanBusInfo {
-  std::string name;       ///< The rig's name for it (groups refer to it).
-  std::string interface;  ///< Kernel interface, e.g. "can0", "vcan0".
-  std::int64_t bitrate_bit_s = 1'000'000;
-  bool fd = false;
-  std::int64_t data_bitrate_bit_s = 0;
-};
-
 /// Everything about the hardware that every backend shares, as ros2_control's HardwareInfo:
-/// the joint tree with limits and drives, the groups and which backend drives each, cameras
-/// with intrinsics and mounts, touch sensors and buses. Built by the config layer from the rig
-/// file; the HAL knows nothing of files. What only one backend needs (the sim's scene) reaches
-/// that backend through the maker the application registers.
+/// the joint tree with limits, the groups and which backend drives each, cameras with
+/// intrinsics and mounts, touch sensors. Built by the config layer from the rig file; the HAL
+/// knows nothing of files. What only one backend needs (the sim's scene, the CANopen buses and
+/// drives) reaches that backend through the maker the application registers, and the backend
+/// checks it itself (BackendFactory::check).
 struct HardwareInfo {
   std::string name;
   std::vector<JointInfo> joints;       ///< Parents come before their children.
@@ -77,7 +56,6 @@ struct HardwareInfo {
   std::vector<CameraInfo> cameras;
   std::optional<StereoPairInfo> stereo;
   std::vector<TouchSensorInfo> touch_sensors;
-  std::vector<CanBusInfo> can_buses;
 
   const JointInfo* find_joint(std::string_view joint_name) const {
     return find(joints, joint_name);
@@ -87,9 +65,6 @@ struct HardwareInfo {
   }
   const CameraInfo* find_camera(std::string_view camera_name) const {
     return find(cameras, camera_name);
-  }
-  const CanBusInfo* find_can_bus(std::string_view bus_name) const {
-    return find(can_buses, bus_name);
   }
 
  private:

@@ -102,33 +102,14 @@ inline bool clamp_command(JointCommand& command, const JointLimits& limits) noex
                        limits.max_velocity_rad_s, limits.max_effort_nm);
 }
 
-/// What a CANopen backend needs per joint group besides the joints' drives (groups.<g>.can).
-struct CanGroupSettings {
-  /// Heartbeat every drive produces (0x1017); the master declares a drive lost after 3 missed
-  /// periods (latched kJointCommLost).
-  double heartbeat_period_s = 0.1;
-  /// A joint's reading is flagged kJointStale after this many SYNCs with no TPDO answer.
-  int stale_after_missed_syncs = 3;
-  double sdo_timeout_s = 0.1;  ///< One SDO request's answer timeout at configure time.
-  /// Optional PDO objects. The minimum set is controlword + target out and statusword + position
-  /// back; these add velocity/torque offsets (0x60B1/0x60B2) out and velocity/torque actual
-  /// (0x606C/0x6077) back, and the bus-load model counts them.
-  bool velocity_feedforward = false;
-  bool effort_feedforward = false;
-  bool velocity_feedback = false;
-  bool effort_feedback = false;
-};
-
 struct JointGroupInfo {
   std::string name;                 ///< e.g. "head", "left_arm".
   std::string backend;              ///< The name its backend registered with.
   std::vector<std::string> joints;  ///< Joint names, in the order of read()/write() spans.
   std::vector<JointLimits> limits;  ///< One per joint, same order.
-  std::string can_bus;              ///< The bus a CAN backend drives it on ("" if none).
   /// The group's own joint-loop rate (a CAN group's SYNC rate), as a ros2_control hardware
   /// component's read/write rate; 0 = the rig's loops.joint.rate_hz.
   double rate_hz = 0.0;
-  CanGroupSettings can;  ///< Used by a CANopen backend only.
 };
 
 /// A set of joints driven by one backend. Every call below is made from the joint loop's thread,

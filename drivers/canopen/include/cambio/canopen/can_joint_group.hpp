@@ -3,7 +3,7 @@
 // A joint group of CiA 402 drives on one CAN bus (hal::JointGroup). One joint-loop cycle:
 //   read()   drain the bus: the TPDOs that answered the previous SYNC (per-joint stamps from the
 //            frames), heartbeats, boot-ups, EMCYs; malformed or unexpected frames are counted
-//            and ignored; a drive silent for info.can.stale_after_missed_syncs SYNCs is stale,
+//            and ignored; a drive silent for settings.stale_after_missed_syncs SYNCs is stale,
 //            one whose heartbeat missed 3 periods is lost (latched kJointCommLost)
 //   write()  clamp, then controlword + target per drive into the RPDOs
 //   sync()   every RPDO then SYNC, with one send_batch
@@ -57,12 +57,15 @@ struct CanGroupCounters {
 
 class CanJointGroup final : public hal::JointGroup {
  public:
-  /// `drives[k]` is the drive of `info.joints[k]`; `rate_hz` the group's SYNC rate. `bus` and
-  /// `clock` outlive the group. Throws std::invalid_argument on bad node ids or units.
-  CanJointGroup(hal::JointGroupInfo info, std::vector<hal::JointDriveInfo> drives, double rate_hz,
-                hal::CanBus& bus, const hal::Clock& clock);
+  /// `drives[k]` is the drive of `info.joints[k]`; `settings` the group's CANopen settings;
+  /// `rate_hz` its SYNC rate. `bus` and `clock` outlive the group. Throws std::invalid_argument
+  /// on bad node ids or units.
+  CanJointGroup(hal::JointGroupInfo info, CanGroupSettings settings,
+                std::vector<JointDriveInfo> drives, double rate_hz, hal::CanBus& bus,
+                const hal::Clock& clock);
 
   const hal::JointGroupInfo& info() const override { return info_; }
+  const CanGroupSettings& settings() const { return settings_; }
   hal::Status read(std::span<hal::JointState> out, std::int64_t& stamp_ns) override;
   hal::Status write(std::span<const hal::JointCommand> commands) override;
   hal::Status request(hal::DriveRequest request, int joint = kAllJoints) override;
@@ -128,6 +131,7 @@ class CanJointGroup final : public hal::JointGroup {
   }
 
   hal::JointGroupInfo info_;
+  CanGroupSettings settings_;
   double rate_hz_;
   hal::CanBus& bus_;
   const hal::Clock& clock_;

@@ -1,6 +1,7 @@
 #pragma once
 
-// The CiA 402 parameters a master writes to each drive from the rig (hal::HardwareInfo) at
+// The CiA 402 parameters a master writes to each drive from the rig (hal::HardwareInfo and
+// its CANopen side, can_rig.hpp) at
 // configure time, then reads back (object_write.hpp): a drive that did not take a value is not
 // enabled.
 //   0x6060     modes of operation: 8 (CSP) or 9 (CSV), from JointDriveInfo::mode
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cambio/canopen/can_rig.hpp"
 #include "cambio/canopen/object_write.hpp"
 #include "cambio/hal/hardware_info.hpp"
 
@@ -29,10 +31,12 @@ struct InterpolationPeriod {
 /// 1 us .. 255 s.
 InterpolationPeriod interpolation_period(double period_s);
 
-/// The writes for `joint` (which must have a drive) of `group`, whose SYNC runs at `rate_hz`.
-/// Throws std::invalid_argument naming the joint for values a drive cannot hold (a limit beyond
-/// INTEGER32 counts, a heartbeat period beyond 65535 ms).
+/// The writes for `joint`'s `drive` in `group` (its CANopen settings `settings`), whose SYNC runs
+/// at `rate_hz`. Throws std::invalid_argument naming the joint for values a drive cannot hold (a
+/// limit beyond INTEGER32 counts, a heartbeat period beyond 65535 ms).
 std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
-                                                const hal::JointGroupInfo& group, double rate_hz);
+                                                const JointDriveInfo& drive,
+                                                const hal::JointGroupInfo& group,
+                                                const CanGroupSettings& settings, double rate_hz);
 
 }  // namespace cambio::canopen

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 
+#include "cambio/canopen/can_rig.hpp"
 #include "cambio/canopen/cia402.hpp"
 #include "cambio/hal/joint_group.hpp"
 
@@ -42,7 +43,7 @@ struct PdoLayout {
   std::array<PdoMapping, 2> tpdos{};  ///< TPDO1, TPDO2 (drive -> master).
 };
 
-inline PdoLayout pdo_layout(hal::CommandMode mode, const hal::CanGroupSettings& settings) {
+inline PdoLayout pdo_layout(hal::CommandMode mode, const CanGroupSettings& settings) {
   PdoLayout layout;
   layout.rpdos[0].add(cia402::kControlword, 16);
   layout.rpdos[0].add(

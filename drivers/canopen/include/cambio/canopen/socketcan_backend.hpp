@@ -24,13 +24,15 @@
 
 #include "cambio/canopen/bus_pump.hpp"
 #include "cambio/canopen/can_joint_group.hpp"
+#include "cambio/canopen/can_rig.hpp"
+#include "cambio/canopen/can_rig_check.hpp"
 #include "cambio/hal/backend_factory.hpp"
 
 namespace cambio::canopen {
 
 /// Opens the kernel interface a rig's bus names (the application passes SocketCanBus::open; unit
 /// tests an in-process endpoint). Throws std::runtime_error with a clear message.
-using BusOpener = std::function<std::unique_ptr<hal::CanBus>(const hal::CanBusInfo&)>;
+using BusOpener = std::function<std::unique_ptr<hal::CanBus>(const CanBusInfo&)>;
 
 struct SocketCanBackendOptions {
   /// The SYNC rate of a group that sets none (JointGroupInfo::rate_hz == 0): the rig's
@@ -46,8 +48,10 @@ class SocketCanBackend final : public hal::Backend {
  public:
   static constexpr const char* kName = "socketcan";
 
-  SocketCanBackend(const hal::HardwareInfo& hardware, const hal::BackendContext& context,
-                   BusOpener opener, SocketCanBackendOptions options = {});
+  /// `can_rig` is the rig's CANopen side: the groups' buses and settings, the joints' drives.
+  SocketCanBackend(const hal::HardwareInfo& hardware, CanRigInfo can_rig,
+                   const hal::BackendContext& context, BusOpener opener,
+                   SocketCanBackendOptions options = {});
   ~SocketCanBackend() override;
 
   std::unique_ptr<hal::JointGroup> make_joint_group(std::string_view group_name) override;
@@ -65,13 +69,14 @@ class SocketCanBackend final : public hal::Backend {
 
  private:
   struct Bus {
-    hal::CanBusInfo info;
+    CanBusInfo info;
     std::unique_ptr<hal::CanBus> bus;
     std::string group;  ///< The one group whose SYNC drives this bus.
   };
   void configure_group(CanJointGroup& group, const hal::JointGroupInfo& info);
 
   hal::HardwareInfo hardware_;
+  CanRigInfo can_rig_;
   hal::Clock& clock_;
   BusOpener opener_;
   SocketCanBackendOptions options_;
@@ -81,9 +86,10 @@ class SocketCanBackend final : public hal::Backend {
   bool active_ = false;
 };
 
-/// Registers the "socketcan" backend with `factory`: it drives real devices, so a run using it
-/// is paced by the wall clock.
-void register_socketcan_backend(hal::BackendFactory& factory, BusOpener opener,
+/// Registers the "socketcan" backend with `factory` for a rig whose CANopen side is `can_rig`:
+/// it drives real devices, so a run using it is paced by the wall clock; its check
+/// (check_can_rig) refuses buses, node ids and bus loads that cannot work.
+void register_socketcan_backend(hal::BackendFactory& factory, CanRigInfo can_rig, BusOpener opener,
                                 SocketCanBackendOptions options = {});
 
 }  // namespace cambio::canopen

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/canopen/can_rig.hpp"
 #include "cambio/config/rig_config.hpp"
 #include "cambio/hal/can_bus.hpp"
 #include "cambio/hal/clock.hpp"
@@ -18,7 +19,7 @@ namespace cambio::virtual_rig {
 
 /// Opens the bus a rig names (SocketCanBus::open in the application, an in-process endpoint in
 /// tests). Throws std::runtime_error when it cannot.
-using BusOpener = std::function<std::unique_ptr<hal::CanBus>(const hal::CanBusInfo&)>;
+using BusOpener = std::function<std::unique_ptr<hal::CanBus>(const canopen::CanBusInfo&)>;
 
 struct VirtualRigOptions {
   std::uint64_t seed = 1;  ///< The servos' noise: same seed, same motion.
@@ -49,7 +50,7 @@ class VirtualRig {
   void run(hal::Clock& clock, const std::atomic<bool>& stop, std::int64_t end_ns);
 
   std::size_t bus_count() const { return buses_.size(); }
-  const hal::CanBusInfo& bus_info(std::size_t bus) const { return buses_[bus].info; }
+  const canopen::CanBusInfo& bus_info(std::size_t bus) const { return buses_[bus].info; }
   hal::CanBus& bus(std::size_t bus) { return *buses_[bus].bus; }
   /// The drives on bus `bus`, with the joint each emulates.
   std::size_t drive_count(std::size_t bus) const { return buses_[bus].drives.size(); }
@@ -62,7 +63,7 @@ class VirtualRig {
 
  private:
   struct Bus {
-    hal::CanBusInfo info;
+    canopen::CanBusInfo info;
     std::unique_ptr<hal::CanBus> bus;
     std::vector<std::unique_ptr<EmulatedDrive>> drives;
     std::vector<std::string> joints;

@@ -54,6 +54,17 @@ TEST(BackendFactory, UnknownBackendSaysWhatIsAvailable) {
   EXPECT_NE(refusal(factory, "socketcan").find("not a known backend"), std::string::npos);
 }
 
+TEST(BackendFactory, AMistypedNameGetsADidYouMean) {
+  BackendFactory factory;
+  factory.register_backend("socketcan", [](const HardwareInfo&, const BackendContext&) {
+    return std::unique_ptr<Backend>();
+  });
+  EXPECT_NE(factory.unavailable_reason("sockcan").find("did you mean 'socketcan'?"),
+            std::string::npos);
+  EXPECT_EQ(factory.unavailable_reason("ethercat").find("did you mean"), std::string::npos);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+}
+
 TEST(BackendFactory, EveryBackendGetsTheRunsOneClock) {
   BackendFactory factory;
   auto maker = [](const HardwareInfo&, const BackendContext& context) {

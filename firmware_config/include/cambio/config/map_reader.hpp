@@ -16,6 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "cambio/config/config_error.hpp"
+#include "cambio/hal/closest_name.hpp"
 
 namespace cambio::config {
 
@@ -252,14 +253,8 @@ class ConfigDocument {
   std::shared_ptr<IssueList> issues_;
 };
 
-/// Levenshtein distance, for "did you mean" suggestions.
-std::size_t edit_distance(std::string_view a, std::string_view b);
-
-/// The "did you mean" for `word`: the first of the `candidates` nearest to it by edit_distance,
-/// if at most `max_distance` edits away; by default max(2, |word| / 4), a plausible typo. Words
-/// and candidates of more than 100 characters are not names: nothing is suggested for or as one.
-std::optional<std::string> closest_name(std::string_view word,
-                                        const std::vector<std::string>& candidates,
-                                        std::optional<std::size_t> max_distance = std::nullopt);
+/// The "did you mean" of every refused name (cambio/hal/closest_name.hpp).
+using hal::closest_name;
+using hal::edit_distance;
 
 }  // namespace cambio::config

@@ -12,6 +12,7 @@
 #include "cambio/hal/backend_offers.hpp"
 #include "cambio/hal/camera.hpp"
 #include "cambio/hal/clock.hpp"
+#include "cambio/hal/closest_name.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/joint_group.hpp"
 #include "cambio/hal/joint_state_tap.hpp"
@@ -169,9 +170,13 @@ class BackendFactory {
       known += known.empty() ? available_name : ", " + available_name;
     }
     const auto unbuilt = unbuilt_.find(name);
-    const std::string why = unbuilt != unbuilt_.end()
-                                ? "is not built in this version of Câmbio (" + unbuilt->second + ")"
-                                : "is not a known backend";
+    std::string why = unbuilt != unbuilt_.end()
+                          ? "is not built in this version of Câmbio (" + unbuilt->second + ")"
+                          : "is not a known backend";
+    if (const auto nearest = closest_name(name, available());
+        nearest && unbuilt == unbuilt_.end()) {
+      why += "; did you mean '" + *nearest + "'?";
+    }
     return why + " (available: " + (known.empty() ? "none" : known) + ")";
   }
 

@@ -1,0 +1,52 @@
+#pragma once
+
+// What perception-bench prints: one JSON object with the medians and ratios (--json) or a table
+// for people. Every figure is the median time per stereo pair.
+
+#include "ssm_timing.hpp"
+
+namespace cambio::app {
+
+/// The SSM variants measured, each on the benchmark pair.
+struct SsmVariantFigures {
+  SsmFigures paper;            ///< The paper's 4 x 16 x 16 retina, coarsest level widened; grey.
+  SsmFigures paper_rgb;        ///< The same on rgb8 frames.
+  SsmFigures fovea_only;       ///< The paper's retina without the field-covering level.
+  SsmFigures paper_fresh;      ///< `paper` with the caches flushed before each run.
+  SsmFigures paper_rgb_fresh;  ///< `paper_rgb` with the caches flushed before each run.
+  SsmFigures wide;             ///< 4 x 64 x 64, fovea only.
+};
+
+/// A memcpy of both images (the memory bound) alternated with the paper's SSM in rounds.
+struct MemcpyRounds {
+  double memcpy_us = 0;              ///< Median of the rounds' memcpy medians.
+  double ssm_paper_over_memcpy = 0;  ///< Median of the rounds' ratios.
+};
+
+/// The paper's SSM with the whole-range disparity scan alternated with the paper's SSM in rounds.
+struct ScanRounds {
+  double scan_us = 0;            ///< Median of the rounds' medians, with the scan.
+  double paper_us = 0;           ///< Median of the rounds' medians, without it.
+  double scan_over_paper = 0;    ///< Median of the rounds' ratios.
+  double disparity_part_us = 0;  ///< The scan SSM's last disparity part.
+  double range_px = 0;           ///< The scan's range.
+  float disparity_px = 0;        ///< The scan SSM's last disparity at the fovea.
+};
+
+struct PerceptionBenchFigures {
+  int repeats = 0;
+  int rounds = 0;  ///< Rounds of each alternated comparison.
+  SsmVariantFigures ssm;
+  MemcpyRounds memcpy_rounds;
+  ScanRounds scan_rounds;
+  double opencv_filter_us = 0;  ///< The SSM's operator set on both whole images.
+  double stereo_bm_us = 0;      ///< cv::StereoBM on the whole pair.
+};
+
+/// The figures as one JSON object on stdout.
+void print_perception_bench_json(const PerceptionBenchFigures& figures);
+
+/// The figures as a table on stdout.
+void print_perception_bench_table(const PerceptionBenchFigures& figures);
+
+}  // namespace cambio::app

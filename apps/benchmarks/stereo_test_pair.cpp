@@ -1,0 +1,58 @@
+#include "stereo_test_pair.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace cambio::app {
+
+namespace {
+
+/// The same pair as the cameras deliver it: rgb8 whose luma is the grey pair.
+void to_rgb(const hal::Image& grey, hal::Image& rgb) {
+  rgb.resize(grey.width_px, grey.height_px, hal::PixelFormat::kRgb8);
+  for (std::size_t i = 0; i < grey.pixels.size(); ++i) {
+    for (std::size_t c = 0; c < 3; ++c) rgb.pixels[3 * i + c] = grey.pixels[i];
+  }
+}
+
+}  // namespace
+
+BenchStereoPair make_bench_pair() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  struct Wave {
+    double fx, fy, phase, amplitude;
+  };
+  std::vector<Wave> waves;
+  for (int i = 0; i < 48; ++i) {
+    const double f =
+        std::exp(std::log(1.0 / 256) + (std::log(1.0 / 5) - std::log(1.0 / 256)) * unit(rng));
+    const double angle = 2 * std::numbers::pi * unit(rng);
+    waves.push_back({f * std::cos(angle), f * std::sin(angle), 2 * std::numbers::pi * unit(rng),
+                     3.0 / std::sqrt(f) / 48.0 * 8.0});
+  }
+  const auto value = [&](double x, double y) {
+    double v = 128;
+    for (const auto& w : waves)
+      v += w.amplitude * std::cos(2 * std::numbers::pi * (w.fx * x + w.fy * y) + w.phase);
+    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+  };
+  BenchStereoPair pair;
+  pair.left.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
+  pair.right.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
+  for (int y = 0; y < kBenchPairHeightPx; ++y) {
+    for (int x = 0; x < kBenchPairWidthPx; ++x) {
+      pair.left.row(y)[x] = value(x, y);
+      pair.right.row(y)[x] = value(x + kBenchPairDisparityPx, y);
+    }
+  }
+  to_rgb(pair.left, pair.left_rgb);
+  to_rgb(pair.right, pair.right_rgb);
+  return pair;
+}
+
+}  // namespace cambio::app

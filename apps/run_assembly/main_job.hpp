@@ -29,65 +29,17 @@
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
 #include "cambio/sim/ground_truth.hpp"
+#include "main_job_result.hpp"
 #include "robot_actions.hpp"
 #include "run_trace.hpp"
 
 namespace cambio::app {
-
-/// What a run produced, for the report and --out.
-/// What one CAN joint group counted during the run (the socketcan backend's CanGroupCounters).
-struct CanGroupReport {
-  std::string group;
-  canopen::CanGroupCounters counters;
-};
-
-/// What the experiment's behaviour did (MainJobResult::behaviour).
-struct BehaviourReport {
-  std::string name;
-  std::vector<std::string> plugins;  ///< The libraries loaded, in order.
-  std::uint64_t steps = 0;
-  std::string status;  ///< Its last status line.
-  bool failed = false;
-  std::string error;  ///< Why it stopped, when it failed.
-};
 
 /// The experiment's behaviour could not be set up: a plugin that does not load, an unknown
 /// name, a bad parameter. A problem of the experiment's input, not of a device.
 class BehaviourSetupError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-struct MainJobResult {
-  std::vector<runtime::LoopStatistics> loops;
-  bool realtime = false;
-  std::uint64_t camera_frames = 0;
-  std::uint64_t stereo_pairs = 0;
-  std::uint64_t mismatched_stereo_pairs = 0;  ///< Refused by the SSM: eyes' stamps too far apart.
-  /// Summed over the joint loops (one per group rate):
-  std::uint64_t watchdog_cycles = 0;      ///< Joint loop held: targets went stale.
-  std::uint64_t startup_hold_cycles = 0;  ///< Joint loop held: no targets sent yet.
-  std::uint64_t fault_hold_cycles = 0;    ///< Joint loop held: fault latched or feedback stale.
-  std::uint64_t fault_recoveries = 0;     ///< Fault resets asked by experiment.fault_recovery.
-  bool fault_latched_at_end = false;
-  bool stopped_by_signal = false;
-  double simulated_s = 0.0;
-  double wall_s = 0.0;
-  std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
-  std::optional<control::GazeStatus> gaze;           ///< If the task was gaze: the last status.
-  std::uint64_t gaze_rejected_commands = 0;
-  std::uint64_t gaze_corrections = 0;
-  std::uint64_t gaze_measurements = 0;
-  /// The scripted commands' send times (s from the script's start; -1: not sent).
-  std::vector<double> command_sent_s;
-  std::int64_t script_start_ns = 0;  ///< The script's time 0 on the run's clock.
-  /// If the run had an arm loop: its last status, and which sides it has ([0] left, [1] right).
-  std::optional<control::ArmStatus> arms;
-  std::array<bool, 2> arm_present{};
-  std::vector<CanGroupReport> can_groups;    ///< One per socketcan group.
-  std::optional<BehaviourReport> behaviour;  ///< If the experiment has one.
-  /// What the sim's cameras rendered with; none when the run made no renderer.
-  std::optional<sim::RendererDescription> renderer;
 };
 
 /// What a run is for: an experiment (the defaults) or the console.
@@ -186,16 +138,28 @@ class MainJob {
   std::optional<sim::RendererDescription> renderer() const;
 
  private:
+  // The backends and their devices (main_job_devices.cpp).
   void build_backends(const hal::BackendFactory& factory);
+  hal::Backend& backend_for(const hal::BackendFactory& factory, const hal::BackendContext& context,
+                            const std::string& name, const std::string& requested_by);
+  void follow_driven_groups();
+  void follow_groups_of_other_backends(const std::string& follower_name, hal::Backend& follower);
+  void make_touch_sensors(const hal::BackendFactory& factory, const hal::BackendContext& context);
+  // The loops, in the order the executor is given them (main_job_loops.cpp, main_job_control.cpp).
   void build_loops();
+  void build_joint_loops();
+  perception::SsmConfig build_camera_and_perception_loops();
+  void build_control_loop(const control::JointTargetFrame& pose);
+  void build_gaze_loop(const control::JointTargetFrame& pose);
+  void build_arm_loop(const control::JointTargetFrame& pose,
+                      std::vector<control::BelievedJoints::Source> sources);
+  void add_backend_loops();
   void build_trace();
   void build_actions();
   void build_behaviour(const perception::SsmConfig& ssm);
   void collect(MainJobResult& result);
-  void make_touch_sensors();
-  void build_arm_loop(const control::JointTargetFrame& pose,
-                      std::vector<control::BelievedJoints::Source> sources);
   int joint_index(const std::string& joint_name) const;
+  std::size_t camera_index(const std::string& camera_name) const;  // Rig order; throws if none.
 
   config::ExperimentConfig experiment_;
   MainJobOptions options_;

@@ -6,38 +6,21 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cambio/config/echoed_text.hpp"
-#include "cambio/config/map_reader.hpp"
+#include "robot_action_text.hpp"
+
+// RobotActions' construction, its gaze actions and feature requests, and the sending every
+// action ends in; the arm actions and joint moves are in robot_actions_arms.cpp.
 
 namespace cambio::app {
 namespace {
 
+using action_text::degrees;
+using action_text::point_text;
+using action_text::refused;
+
 // Sequence numbers of the actions start far above the experiment script's (which counts from
 // 1), so the gaze loop never takes an action for a command it has already applied.
 constexpr std::uint64_t kFirstSequence = std::uint64_t{1} << 40;
-
-behaviour::ActionResult refused(std::string why) {
-  return {false, std::move(why)};
-}
-
-// An angle as people read it; one too large for degrees (1e308 rad) is said as given.
-std::string degrees(double rad) {
-  std::ostringstream out;
-  const double deg = rad * 180.0 / std::numbers::pi;
-  if (!std::isfinite(deg)) {
-    out << rad << " rad";
-  } else {
-    out.precision(1);
-    out << std::fixed << deg << " deg";
-  }
-  return out.str();
-}
-
-std::string point_text(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m";
-  return out.str();
-}
 
 }  // namespace
 
@@ -152,78 +135,6 @@ behaviour::ActionResult RobotActions::verge(bool on) {
   command.action = control::GazeAction::kVerge;
   command.verge = on;
   return send(command);
-}
-
-behaviour::ActionResult RobotActions::reach_fixated(control::ArmSide arm) {
-  control::ArmCommand command;
-  command.action = control::ArmAction::kReach;
-  command.arm = arm;
-  command.target = control::ReachTargetKind::kFixation;
-  return send(command);
-}
-
-behaviour::ActionResult RobotActions::reach_point(const Eigen::Vector3d& p_W_m,
-                                                  control::ArmSide arm) {
-  if (!p_W_m.allFinite()) return refused("the point " + point_text(p_W_m) + " is not finite");
-  control::ArmCommand command;
-  command.action = control::ArmAction::kReach;
-  command.arm = arm;
-  command.target = control::ReachTargetKind::kPoint;
-  command.point_W_m = {p_W_m.x(), p_W_m.y(), p_W_m.z()};
-  return send(command);
-}
-
-behaviour::ActionResult RobotActions::grasp(control::ArmSide arm) {
-  control::ArmCommand command;
-  command.action = control::ArmAction::kGrasp;
-  command.arm = arm;
-  return send(command);
-}
-
-behaviour::ActionResult RobotActions::release(control::ArmSide arm) {
-  control::ArmCommand command;
-  command.action = control::ArmAction::kRelease;
-  command.arm = arm;
-  return send(command);
-}
-
-behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, double position_rad) {
-  const auto joint = std::find_if(joints_.begin(), joints_.end(),
-                                  [&](const Joint& j) { return j.name == joint_name; });
-  if (joint == joints_.end()) {
-    std::vector<std::string> names;
-    for (const Joint& j : joints_) names.push_back(j.name);
-    std::string why = "no joint " + config::in_quotes(joint_name);
-    if (const auto near = config::closest_name(joint_name, names)) {
-      why += "; did you mean " + config::in_quotes(*near) + "?";
-    }
-    return refused(why);
-  }
-  if (!std::isfinite(position_rad)) return refused(joint->name + ": the angle is not finite");
-  const double clamped =
-      std::clamp(position_rad, joint->limits.min_position_rad, joint->limits.max_position_rad);
-  std::string note;
-  if (clamped != position_rad) {
-    note = joint->name + ": " + degrees(position_rad) + " is beyond its " +
-           (clamped > position_rad ? "lower" : "upper") + " limit; clamped to " + degrees(clamped);
-  }
-  const int index = static_cast<int>(joint - joints_.begin());
-  behaviour::ActionResult result;
-  if (joint->head) {
-    control::GazeCommand command;
-    command.action = control::GazeAction::kMoveJoint;
-    command.joint_rig_index = index;
-    command.position_rad = clamped;
-    result = send(command);
-  } else {
-    control::ArmCommand command;
-    command.action = control::ArmAction::kMoveJoint;
-    command.joint_rig_index = index;
-    command.position_rad = clamped;
-    result = send(command);
-  }
-  if (result.sent) result.message = note;
-  return result;
 }
 
 behaviour::ActionResult RobotActions::request_features(const perception::FeatureRequest& features) {

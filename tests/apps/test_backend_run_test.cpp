@@ -81,5 +81,27 @@ TEST(TestBackendRun, ABackendNoOneRegisteredIsRefusedAtItsKeyWithTheNamesAvailab
   }
 }
 
+TEST(TestBackendRun, ATouchSensorOnABackendNoGroupOrCameraNamesIsMadeThereNotSkipped) {
+  // The arms and cameras stay on the sim; one hand's touch sensor names the test's backend,
+  // which has none: the run must ask it (and so refuse), not run without the sensor.
+  const config::ExperimentConfig experiment = config::load_experiment(
+      std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/experiments/reach_touch.yaml",
+      {{"rig.touch_sensors.left_hand.backend", "test_rig"},
+       {"rig.touch_sensors.right_hand.backend", "test_rig"}});
+  hal::BackendFactory factory;
+  app::register_builtin_backends(factory, experiment);
+  TestRigRecord record;
+  register_test_rig_backend(factory, record, 0.0);
+  try {
+    app::MainJob job(experiment, factory);
+    const std::atomic<bool> stop{false};
+    (void)job.run(stop, [](double, double) {});
+    FAIL() << "a touch sensor its backend cannot make was skipped";
+  } catch (const hal::BackendUnavailable& error) {
+    EXPECT_NE(std::string(error.what()).find("test_rig has no touch sensor"), std::string::npos)
+        << error.what();
+  }
+}
+
 }  // namespace
 }  // namespace cambio::testing

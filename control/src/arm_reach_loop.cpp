@@ -137,7 +137,7 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
 
 void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcept {
   ++status_.commands_applied;
-  // The sides a command names; kNearest is both, except for a reach (decided below).
+  // The sides a command names; kNearest is both, except for a reach (decided in reach()).
   const bool left = command.arm != ArmSide::kRight && arms_[0].present;
   const bool right = command.arm != ArmSide::kLeft && arms_[1].present;
   const std::array<bool, 2> sides{left, right};
@@ -149,98 +149,119 @@ void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcep
       break;
     case ArmAction::kGrasp:
     case ArmAction::kRelease:
-      for (int side = 0; side < 2; ++side) {
-        if (!sides[at(side)]) continue;
-        const hal::JointLimits& limits = arms_[at(side)].chain.limits[4];
-        arms_[at(side)].gripper_goal_rad =
-            command.action == ArmAction::kGrasp ? limits.min_position_rad : limits.max_position_rad;
-      }
+      set_gripper_goals(command.action, sides);
       break;
-    case ArmAction::kMoveJoint: {
-      for (int side = 0; side < 2; ++side) {
-        Arm& arm = arms_[at(side)];
-        if (!arm.present) continue;
-        for (std::size_t k = 0; k < 5; ++k) {
-          if (arm.chain.rig[k] != command.joint_rig_index) continue;
-          const hal::JointLimits& limits = arm.chain.limits[k];
-          const double goal = std::clamp(std::isfinite(command.position_rad)
-                                             ? command.position_rad
-                                             : q_command_tree_[at(arm.chain.joints[k])],
-                                         limits.min_position_rad, limits.max_position_rad);
-          if (k == 4) {
-            arm.gripper_goal_rad = goal;
-          } else {
-            stop(side);
-            arm.move_joint = arm.chain.joints[k];
-            arm.move_goal_rad = goal;
-          }
-          return;
-        }
-      }
-      std::snprintf(status_.message.data(), status_.message.size(),
-                    "move joint: rig joint %d is not an arm joint", command.joint_rig_index);
+    case ArmAction::kMoveJoint:
+      move_joint(command);
       break;
-    }
-    case ArmAction::kReach: {
-      Eigen::Vector3d target_W;
-      if (command.target == ReachTargetKind::kPoint) {
-        target_W =
-            Eigen::Vector3d(command.point_W_m[0], command.point_W_m[1], command.point_W_m[2]);
+    case ArmAction::kReach:
+      reach(command, sides, now_ns);
+      break;
+  }
+}
+
+void ArmReachLoop::set_gripper_goals(ArmAction action, const std::array<bool, 2>& sides) noexcept {
+  for (int side = 0; side < 2; ++side) {
+    if (!sides[at(side)]) continue;
+    const hal::JointLimits& limits = arms_[at(side)].chain.limits[4];
+    arms_[at(side)].gripper_goal_rad =
+        action == ArmAction::kGrasp ? limits.min_position_rad : limits.max_position_rad;
+  }
+}
+
+void ArmReachLoop::move_joint(const ArmCommand& command) noexcept {
+  for (int side = 0; side < 2; ++side) {
+    Arm& arm = arms_[at(side)];
+    if (!arm.present) continue;
+    for (std::size_t k = 0; k < 5; ++k) {
+      if (arm.chain.rig[k] != command.joint_rig_index) continue;
+      const hal::JointLimits& limits = arm.chain.limits[k];
+      const double goal =
+          std::clamp(std::isfinite(command.position_rad) ? command.position_rad
+                                                         : q_command_tree_[at(arm.chain.joints[k])],
+                     limits.min_position_rad, limits.max_position_rad);
+      // The gripper has a goal of its own; another joint's move stops the arm's reach.
+      if (k == 4) {
+        arm.gripper_goal_rad = goal;
       } else {
-        // A torn read keeps the last clean status.
-        if (gaze_ != nullptr) (void)gaze_->read(gaze_status_);
-        const bool fixation = gaze_ != nullptr && gaze_status_.believed_fixation_valid;
-        if (!fixation) {
-          for (int side = 0; side < 2; ++side) {
-            if (sides[at(side)]) {
-              refuse(side, gaze_ == nullptr
-                               ? "no fixation: the arms have no gaze loop to ask"
-                               : "no fixation: the eyes' axes do not meet in front of them");
-            }
-          }
-          break;
-        }
-        target_W = Eigen::Vector3d(gaze_status_.believed_fixation_W_m[0],
-                                   gaze_status_.believed_fixation_W_m[1],
-                                   gaze_status_.believed_fixation_W_m[2]);
+        stop(side);
+        arm.move_joint = arm.chain.joints[k];
+        arm.move_goal_rad = goal;
       }
-      if (command.arm != ArmSide::kNearest) {
-        const int side = command.arm == ArmSide::kLeft ? 0 : 1;
-        if (arms_[at(side)].present) {
-          (void)start_reach(side, target_W, now_ns);
-        } else {
-          std::snprintf(status_.message.data(), status_.message.size(),
-                        "no such arm: the rig has no %s arm", side == 0 ? "left" : "right");
-        }
-        break;
-      }
-      // The nearer shoulder first; the other arm if the nearer cannot, the nearer's reason if
-      // neither can.
-      int first = arms_[0].present ? 0 : 1;
-      if (arms_[0].present && arms_[1].present &&
-          (target_W - arms_[1].chain.shoulder_W).norm() <
-              (target_W - arms_[0].chain.shoulder_W).norm()) {
-        first = 1;
-      }
-      // A refusal the other arm makes good is no refusal: the nearer arm's status and the
-      // message are put back as they were.
-      const ArmStatus::Arm first_before = status_.arms[at(first)];
-      const std::array<char, 160> message_before = status_.message;
-      if (start_reach(first, target_W, now_ns)) break;
-      const std::array<char, 160> first_message = status_.message;
-      const int second = 1 - first;
-      if (!arms_[at(second)].present) break;
-      const ArmStatus::Arm second_before = status_.arms[at(second)];
-      if (start_reach(second, target_W, now_ns)) {
-        status_.arms[at(first)] = first_before;
-        status_.message = message_before;
-        break;
-      }
-      status_.arms[at(second)] = second_before;
-      status_.message = first_message;
-      break;
+      return;
     }
   }
+  std::snprintf(status_.message.data(), status_.message.size(),
+                "move joint: rig joint %d is not an arm joint", command.joint_rig_index);
+}
+
+void ArmReachLoop::reach(const ArmCommand& command, const std::array<bool, 2>& sides,
+                         std::int64_t now_ns) noexcept {
+  Eigen::Vector3d target_W;
+  if (!reach_target(command, sides, target_W)) return;
+  if (command.arm != ArmSide::kNearest) {
+    const int side = command.arm == ArmSide::kLeft ? 0 : 1;
+    if (arms_[at(side)].present) {
+      (void)start_reach(side, target_W, now_ns);
+    } else {
+      std::snprintf(status_.message.data(), status_.message.size(),
+                    "no such arm: the rig has no %s arm", side == 0 ? "left" : "right");
+    }
+    return;
+  }
+  reach_with_nearer_arm(target_W, now_ns);
+}
+
+bool ArmReachLoop::reach_target(const ArmCommand& command, const std::array<bool, 2>& sides,
+                                Eigen::Vector3d& target_W) noexcept {
+  if (command.target == ReachTargetKind::kPoint) {
+    target_W = Eigen::Vector3d(command.point_W_m[0], command.point_W_m[1], command.point_W_m[2]);
+    return true;
+  }
+  // A torn read keeps the last clean status.
+  if (gaze_ != nullptr) (void)gaze_->read(gaze_status_);
+  const bool fixation = gaze_ != nullptr && gaze_status_.believed_fixation_valid;
+  if (!fixation) {
+    for (int side = 0; side < 2; ++side) {
+      if (sides[at(side)]) {
+        refuse(side, gaze_ == nullptr ? "no fixation: the arms have no gaze loop to ask"
+                                      : "no fixation: the eyes' axes do not meet in front of them");
+      }
+    }
+    return false;
+  }
+  target_W =
+      Eigen::Vector3d(gaze_status_.believed_fixation_W_m[0], gaze_status_.believed_fixation_W_m[1],
+                      gaze_status_.believed_fixation_W_m[2]);
+  return true;
+}
+
+void ArmReachLoop::reach_with_nearer_arm(const Eigen::Vector3d& target_W,
+                                         std::int64_t now_ns) noexcept {
+  // The nearer shoulder first; the other arm if the nearer cannot, the nearer's reason if
+  // neither can.
+  int first = arms_[0].present ? 0 : 1;
+  if (arms_[0].present && arms_[1].present &&
+      (target_W - arms_[1].chain.shoulder_W).norm() <
+          (target_W - arms_[0].chain.shoulder_W).norm()) {
+    first = 1;
+  }
+  // A refusal the other arm makes good is no refusal: the nearer arm's status and the
+  // message are put back as they were.
+  const ArmStatus::Arm first_before = status_.arms[at(first)];
+  const std::array<char, 160> message_before = status_.message;
+  if (start_reach(first, target_W, now_ns)) return;
+  const std::array<char, 160> first_message = status_.message;
+  const int second = 1 - first;
+  if (!arms_[at(second)].present) return;
+  const ArmStatus::Arm second_before = status_.arms[at(second)];
+  if (start_reach(second, target_W, now_ns)) {
+    status_.arms[at(first)] = first_before;
+    status_.message = message_before;
+    return;
+  }
+  status_.arms[at(second)] = second_before;
+  status_.message = first_message;
 }
 
 bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
@@ -306,19 +327,7 @@ void ArmReachLoop::stop(int side) noexcept {
 void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexcept {
   Arm& arm = arms_[at(side)];
   ArmStatus::Arm& s = status_.arms[at(side)];
-  const ArmChain& chain = arm.chain;
-  hal::TouchReading reading;
-  if (arm.touch != nullptr && arm.touch->read(reading) == hal::Status::kOk && reading.in_contact) {
-    // Stop where the arm is, not where it was commanded: the command leads the drives, and
-    // holding it would keep pushing into what was touched.
-    s.phase = ReachPhase::kTouching;
-    s.touch_ns = now_ns;
-    for (std::size_t k = 0; k < 4; ++k) {
-      q_command_tree_[at(chain.joints[k])] = q_believed_tree_[at(chain.joints[k])];
-    }
-    arm.gripper_goal_rad = chain.limits[4].min_position_rad;
-    return;
-  }
+  if (stop_on_touch(arm, s, now_ns)) return;
   (void)command_kinematics_.update(q_command_tree_);
   const Eigen::Vector3d tip = tip_W(command_kinematics_, arm);
   // In front of the target near enough (a quarter of the approach): turn in without stopping.
@@ -330,14 +339,48 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
     s.phase = ReachPhase::kArrived;
     return;
   }
+  Eigen::Matrix<double, 3, 4> J_v;
+  tip_jacobian_W(arm, tip, J_v);
+  Eigen::Vector4d qdot;
+  if (!solve_joint_velocities(arm, e_W, J_v, qdot)) {
+    refuse(side, "the arm servo found no motion toward the target (a singular arm)");
+    return;
+  }
+  advance_joints(arm, s.command_ns, now_ns, dt_s, J_v, qdot);
+}
+
+bool ArmReachLoop::stop_on_touch(Arm& arm, ArmStatus::Arm& s, std::int64_t now_ns) noexcept {
+  const ArmChain& chain = arm.chain;
+  hal::TouchReading reading;
+  if (arm.touch == nullptr || arm.touch->read(reading) != hal::Status::kOk || !reading.in_contact) {
+    return false;
+  }
+  // Stop where the arm is, not where it was commanded: the command leads the drives, and
+  // holding it would keep pushing into what was touched.
+  s.phase = ReachPhase::kTouching;
+  s.touch_ns = now_ns;
+  for (std::size_t k = 0; k < 4; ++k) {
+    q_command_tree_[at(chain.joints[k])] = q_believed_tree_[at(chain.joints[k])];
+  }
+  arm.gripper_goal_rad = chain.limits[4].min_position_rad;
+  return true;
+}
+
+void ArmReachLoop::tip_jacobian_W(const Arm& arm, const Eigen::Vector3d& tip,
+                                  Eigen::Matrix<double, 3, 4>& J_v) noexcept {
   // The fingertips' midpoint is a point of the wrist link: v_p = v_wrist + w x (p - o_wrist).
   (void)command_kinematics_.jacobian_W(arm.wrist_frame, J_W_);
   const Eigen::Vector3d r = tip - command_kinematics_.X_WF(arm.wrist_frame).translation();
-  Eigen::Matrix<double, 3, 4> J_v;
   for (int k = 0; k < 4; ++k) {
-    const int column = chain.joints[at(k)];
+    const int column = arm.chain.joints[at(k)];
     J_v.col(k) = J_W_.block<3, 1>(0, column) - r.cross(J_W_.block<3, 1>(3, column));
   }
+}
+
+bool ArmReachLoop::solve_joint_velocities(const Arm& arm, const Eigen::Vector3d& e_W,
+                                          const Eigen::Matrix<double, 3, 4>& J_v,
+                                          Eigen::Vector4d& qdot) noexcept {
+  const ArmChain& chain = arm.chain;
   // Secondary task: toward the reach check's joints at the aim (within every limit), the
   // gradient descent of |q - q_goal|^2 / 2. In the primary task's null space it only chooses
   // among the ways to the same fingertip motion: the elbow and the wrist's pitch, which a
@@ -356,7 +399,6 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
   // A joint at a limit that the law drives further out is taken out of the task (its column and
   // its secondary motion zeroed) and the law solved again by the joints left: otherwise it would
   // be clamped while the others move as if it had not been, off the straight line.
-  Eigen::Vector4d qdot;
   std::array<bool, 4> blocked{};
   for (int pass = 0; pass < 4; ++pass) {
     Eigen::Matrix<double, 3, 4> J_free = J_v;
@@ -367,8 +409,7 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
       u2_free[k] = 0.0;
     }
     if (!servo_->control_law(e_W, J_free, u2_free, q, q_min, q_max, qdot) || !qdot.allFinite()) {
-      refuse(side, "the arm servo found no motion toward the target (a singular arm)");
-      return;
+      return false;
     }
     bool again = false;
     for (int k = 0; k < 4; ++k) {
@@ -381,9 +422,16 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
     }
     if (!again) break;
   }
+  return true;
+}
+
+void ArmReachLoop::advance_joints(const Arm& arm, std::int64_t command_ns, std::int64_t now_ns,
+                                  double dt_s, const Eigen::Matrix<double, 3, 4>& J_v,
+                                  const Eigen::Vector4d& qdot) noexcept {
+  const ArmChain& chain = arm.chain;
   // Capped speed, ramped from the command; every joint within its velocity limit. One scale
   // for all: the direction of motion is kept.
-  const double since_s = static_cast<double>(now_ns - s.command_ns) * 1e-9 + dt_s;
+  const double since_s = static_cast<double>(now_ns - command_ns) * 1e-9 + dt_s;
   const double cap_m_s = std::min(params_.max_speed_m_s, params_.max_acceleration_m_s2 * since_s);
   const double speed_m_s = (J_v * qdot).norm();
   double scale = speed_m_s > cap_m_s ? cap_m_s / speed_m_s : 1.0;

@@ -23,42 +23,55 @@ void add_issues(ConfigDocument& document, const ConfigError& error) {
   for (const auto& issue : error.issues()) document.issues()->add(issue);
 }
 
-/// Reads the experiment in `document` (from file `path`, against whose folder relative paths
-/// resolve), loads the rig and scene it names with their overrides, and throws every problem of
-/// the three.
-ExperimentConfig read_experiment(ConfigDocument& document, const std::string& path,
-                                 const SplitOverrides& overrides) {
-  MapReader root = document.root();
-  MapReader experiment = root.map("experiment");
-  root.finish();
+/// Resolves the paths an experiment names against its file's folder; an absolute path, or none,
+/// stays as given.
+class PathResolver {
+ public:
+  explicit PathResolver(const std::string& experiment_path)
+      : folder_(std::filesystem::path(experiment_path).parent_path()) {}
 
-  ExperimentConfig config;
-  config.source_file = path;
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  auto resolve = [&](const std::string& relative) {
+  std::string operator()(const std::string& relative) const {
     if (relative.empty() || std::filesystem::path(relative).is_absolute()) return relative;
-    return (folder / relative).lexically_normal().string();
-  };
-  // A file the experiment names is checked here, so that a problem with it (missing, a
-  // directory, unreadable, a name too long, a symbolic link loop) is reported at the key that
-  // names it. Returns whether it can be read.
-  auto check_named_file = [&](std::string_view key, std::string_view what, const std::string& given,
-                              const std::string& resolved) {
-    if (resolved.empty()) return false;
-    const auto problem = config_file_problem(resolved);
-    if (!problem) return true;
-    std::string message =
-        "expected a readable " + std::string(what) + " file, found " + in_quotes(given);
-    if (resolved != given) message += " (resolved to " + in_quotes(resolved) + ")";
-    experiment.error(key, message + ": " + *problem);
-    return false;
-  };
+    return (folder_ / relative).lexically_normal().string();
+  }
 
+ private:
+  std::filesystem::path folder_;
+};
+
+/// What the experiment's keys gave as written: the files it names (for messages, beside the
+/// resolved paths in ExperimentConfig) and the task's name.
+struct AsWritten {
+  std::string rig_file;
+  std::string scene_file;
+  std::string perception_file;
+  std::string task;
+};
+
+/// A file the experiment names is checked here, so that a problem with it (missing, a
+/// directory, unreadable, a name too long, a symbolic link loop) is reported at the key that
+/// names it. Returns whether it can be read.
+bool check_named_file(MapReader& experiment, std::string_view key, std::string_view what,
+                      const std::string& given, const std::string& resolved) {
+  if (resolved.empty()) return false;
+  const auto problem = config_file_problem(resolved);
+  if (!problem) return true;
+  std::string message =
+      "expected a readable " + std::string(what) + " file, found " + in_quotes(given);
+  if (resolved != given) message += " (resolved to " + in_quotes(resolved) + ")";
+  experiment.error(key, message + ": " + *problem);
+  return false;
+}
+
+/// The run's own settings: its name, the files it names, executor, duration and task.
+AsWritten read_run_settings(MapReader& experiment, const PathResolver& resolve,
+                            ExperimentConfig& config) {
+  AsWritten written;
   config.name = experiment.text("name");
-  const std::string rig_file = experiment.text("rig");
-  const std::string scene_file = experiment.text_or("scene", "");
-  config.rig_path = resolve(rig_file);
-  config.scene_path = resolve(scene_file);
+  written.rig_file = experiment.text("rig");
+  written.scene_file = experiment.text_or("scene", "");
+  config.rig_path = resolve(written.rig_file);
+  config.scene_path = resolve(written.scene_file);
   config.executor =
       experiment.choice_or("executor", {"lockstep", "realtime"}, "lockstep") == "realtime"
           ? ExecutorKind::kRealtime
@@ -66,10 +79,14 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   config.duration_s = experiment.number(
       "duration_s", Range{0.0, kMaxExperimentDuration_s, true, false}.because(
                         "a day; a run's cycles, progress and records grow with its duration"));
-  const std::string perception_file = experiment.text_or("perception", "");
-  config.perception_path = resolve(perception_file);
-  const std::string task = experiment.choice_or("task", {"hold", "gaze"}, "hold");
-  config.task = task == "gaze" ? ControlTask::kGaze : ControlTask::kHold;
+  written.perception_file = experiment.text_or("perception", "");
+  config.perception_path = resolve(written.perception_file);
+  written.task = experiment.choice_or("task", {"hold", "gaze"}, "hold");
+  config.task = written.task == "gaze" ? ControlTask::kGaze : ControlTask::kHold;
+  return written;
+}
+
+void read_fault_recovery(MapReader& experiment, ExperimentConfig& config) {
   if (auto recovery = experiment.optional_map("fault_recovery")) {
     FaultRecoveryConfig& r = config.fault_recovery;
     r.after_s = recovery->number_or("after_s", r.after_s, Range::closed(0.0, 3600.0));
@@ -77,30 +94,42 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
         recovery->integer_or("max_recoveries", r.max_recoveries, Range::closed(0, 1000)));
     recovery->finish();
   }
-  // The vergence task (a top-level `vergence:`) was retired for the gaze task's vergence; the key
-  // is read here so that an old file is told where it went rather than that it is unknown.
+}
+
+/// The vergence task (a top-level `vergence:`) was retired for the gaze task's vergence; the key
+/// is read here so that an old file is told where it went rather than that it is unknown.
+void report_retired_vergence(MapReader& experiment) {
   if (experiment.optional_map("vergence")) {
     experiment.error("vergence",
                      "task vergence was retired: use task gaze, with these settings under "
                      "gaze.vergence (the verging eye is the one gaze.dominant_eye is not)");
   }
-  // The scene is loaded before the sections that name its objects.
-  const bool scene_readable = check_named_file("scene", "scene", scene_file, config.scene_path);
+}
+
+/// Loads the scene the experiment names, its problems joining the experiment's; `scene.`
+/// overrides with no scene named are reported as having nowhere to go.
+void load_named_scene(ConfigDocument& document, MapReader& experiment, const AsWritten& written,
+                      const SplitOverrides& overrides, ExperimentConfig& config) {
+  const bool scene_readable =
+      check_named_file(experiment, "scene", "scene", written.scene_file, config.scene_path);
   if (scene_readable) {
     try {
       config.scene = load_scene(config.scene_path, overrides.scene);
     } catch (const ConfigError& error) {
       add_issues(document, error);
     }
-  } else if (scene_file.empty()) {
+  } else if (written.scene_file.empty()) {
     for (const auto& override_entry : overrides.scene) {
       document.issues()->add({"--set", 0, 0, "scene." + override_entry.key_path,
                               "the experiment names no scene (experiment.scene) to set it in"});
     }
   }
-  const SceneForSections scene{config.scene ? &*config.scene : nullptr, !scene_file.empty()};
-  // Pixel targets are checked against the dominant eye's image once the rig is loaded.
-  std::vector<PendingPixelTarget> pixel_targets;
+}
+
+/// The gaze task's sections; a hold run reads none of them, and says so for each one given.
+void read_task_sections(MapReader& experiment, const PathResolver& resolve,
+                        const SceneForSections& scene,
+                        std::vector<PendingPixelTarget>& pixel_targets, ExperimentConfig& config) {
   if (config.task == ControlTask::kGaze) {
     if (auto gaze = experiment.optional_map("gaze")) config.gaze = read_gaze_task(std::move(*gaze));
     if (auto arm = experiment.optional_map("arm")) config.arm = read_arm_task(std::move(*arm));
@@ -122,42 +151,40 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
       }
     }
   }
-  if (auto evaluation = experiment.optional_map("evaluation")) {
-    config.evaluation = read_evaluation(std::move(*evaluation), config.duration_s, scene);
+}
+
+/// Loads the rig when its file can be read, its problems joining the experiment's. Returns
+/// whether it loaded.
+bool load_named_rig(ConfigDocument& document, bool rig_readable, const SplitOverrides& overrides,
+                    ExperimentConfig& config) {
+  if (!rig_readable) return false;
+  try {
+    config.rig = load_rig(config.rig_path, overrides.rig);
+    return true;
+  } catch (const ConfigError& error) {
+    add_issues(document, error);
   }
-  config.goals = read_goals(experiment);
-  config.seed = static_cast<std::uint64_t>(
-      experiment.integer_or("seed", 0, Range::closed(0, 9.007199254740992e15)));
-  const bool rig_readable = check_named_file("rig", "rig", rig_file, config.rig_path);
-  check_named_file("perception", "perception config", perception_file, config.perception_path);
-  // The initial pose names rig joints, so it is checked once the rig is loaded. Problems of
-  // both files are reported together.
-  std::optional<MapReader> pose = experiment.optional_map("initial_pose");
-  bool rig_loaded = false;
-  if (rig_readable) {
-    try {
-      config.rig = load_rig(config.rig_path, overrides.rig);
-      rig_loaded = true;
-    } catch (const ConfigError& error) {
-      add_issues(document, error);
-    }
+  return false;
+}
+
+void apply_initial_pose(MapReader& pose, RigConfig& rig) {
+  // Every joint's key is read, so that a key naming no joint is offered all of them.
+  for (auto& joint : rig.joints) {
+    joint.initial_position_rad =
+        pose.angle_rad_or(joint.name, joint.initial_position_rad,
+                          Range::closed(joint.min_position_rad, joint.max_position_rad)
+                              .because("the joint's limits in the rig"));
   }
-  if (!rig_loaded) {
-    experiment.finish();
-    document.issues()->throw_if_any();
-  }
-  if (pose) {
-    // Every joint's key is read, so that a key naming no joint is offered all of them.
-    for (auto& joint : config.rig.joints) {
-      joint.initial_position_rad =
-          pose->angle_rad_or(joint.name, joint.initial_position_rad,
-                             Range::closed(joint.min_position_rad, joint.max_position_rad)
-                                 .because("the joint's limits in the rig"));
-    }
-    pose->finish();  // Keys naming no joint are reported here, with a "did you mean".
-  }
+  pose.finish();  // Keys naming no joint are reported here, with a "did you mean".
+}
+
+/// What the task asks of the loaded rig: a stereo pair for gaze, arms for scripted arm
+/// commands, and pixel targets inside the dominant eye's image.
+void check_rig_serves_task(MapReader& experiment, const AsWritten& written,
+                           std::vector<PendingPixelTarget>& pixel_targets,
+                           const ExperimentConfig& config) {
   if (config.task != ControlTask::kHold && !config.rig.stereo) {
-    experiment.error("task", "expected a rig with a stereo pair for the " + task +
+    experiment.error("task", "expected a rig with a stereo pair for the " + written.task +
                                  " task, found none in " + config.rig_path);
   }
   const bool scripts_arms =
@@ -176,6 +203,49 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
         config.gaze.dominant_eye == hal::Eye::kLeft ? stereo.left_camera : stereo.right_camera);
     if (dominant != nullptr) check_pixel_targets(pixel_targets, *dominant);
   }
+}
+
+/// Reads the experiment in `document` (from file `path`, against whose folder relative paths
+/// resolve), loads the rig and scene it names with their overrides, and throws every problem of
+/// the three.
+ExperimentConfig read_experiment(ConfigDocument& document, const std::string& path,
+                                 const SplitOverrides& overrides) {
+  MapReader root = document.root();
+  MapReader experiment = root.map("experiment");
+  root.finish();
+
+  ExperimentConfig config;
+  config.source_file = path;
+  const PathResolver resolve(path);
+  const AsWritten written = read_run_settings(experiment, resolve, config);
+  read_fault_recovery(experiment, config);
+  report_retired_vergence(experiment);
+  // The scene is loaded before the sections that name its objects.
+  load_named_scene(document, experiment, written, overrides, config);
+  const SceneForSections scene{config.scene ? &*config.scene : nullptr,
+                               !written.scene_file.empty()};
+  // Pixel targets are checked against the dominant eye's image once the rig is loaded.
+  std::vector<PendingPixelTarget> pixel_targets;
+  read_task_sections(experiment, resolve, scene, pixel_targets, config);
+  if (auto evaluation = experiment.optional_map("evaluation")) {
+    config.evaluation = read_evaluation(std::move(*evaluation), config.duration_s, scene);
+  }
+  config.goals = read_goals(experiment);
+  config.seed = static_cast<std::uint64_t>(
+      experiment.integer_or("seed", 0, Range::closed(0, 9.007199254740992e15)));
+  const bool rig_readable =
+      check_named_file(experiment, "rig", "rig", written.rig_file, config.rig_path);
+  check_named_file(experiment, "perception", "perception config", written.perception_file,
+                   config.perception_path);
+  // The initial pose names rig joints, so it is checked once the rig is loaded. Problems of
+  // both files are reported together.
+  std::optional<MapReader> pose = experiment.optional_map("initial_pose");
+  if (!load_named_rig(document, rig_readable, overrides, config)) {
+    experiment.finish();
+    document.issues()->throw_if_any();
+  }
+  if (pose) apply_initial_pose(*pose, config.rig);
+  check_rig_serves_task(experiment, written, pixel_targets, config);
   experiment.finish();
   document.issues()->throw_if_any();
   return config;

@@ -554,49 +554,65 @@ std::vector<LoopConfig> default_loops() {
   };
 }
 
-RigConfig read_rig(MapReader root, const std::string& file) {
-  RigConfig rig;
-  rig.source_file = file;
-  {
-    MapReader header = root.map("rig");
-    rig.name = header.text("name");
-    header.finish();
-  }
+namespace {
 
+/// The readers of the sections read_rig reads, kept for the checks across sections: each issue
+/// they find is located at the entry it is about, once every section was read.
+struct SectionReaders {
   std::vector<JointEntry> joints;
+  bool too_many_joints = false;
+  std::vector<GroupEntry> groups;
+  std::vector<MapReader> cameras;
+  std::optional<MapReader> stereo;
+  std::vector<MapReader> touch_sensors;
+  std::vector<MapReader> can_buses;
+};
+
+void read_rig_header(MapReader& root, RigConfig& rig) {
+  MapReader header = root.map("rig");
+  rig.name = header.text("name");
+  header.finish();
+}
+
+/// Joints are required, and at most kMaxJoints of them (the joint loop's frames hold that many).
+void read_joints(MapReader& root, RigConfig& rig, SectionReaders& readers) {
   if (!root.has("joints")) root.error("joints", "missing key (expected a map of joints by name)");
   for (auto& [name, reader] : root.named_maps("joints")) {
     std::optional<MapReader> can;
     rig.joints.push_back(read_joint(name, reader, can));
-    joints.push_back(JointEntry{reader, can});
+    readers.joints.push_back(JointEntry{reader, can});
   }
   if (root.has("joints") && rig.joints.empty()) {
     root.error("joints", "expected at least one joint, found none");
   }
-  const bool too_many_joints = rig.joints.size() > kMaxJoints;
-  if (too_many_joints) {
+  readers.too_many_joints = rig.joints.size() > kMaxJoints;
+  if (readers.too_many_joints) {
     root.error("joints", "expected at most " + std::to_string(kMaxJoints) +
                              " joints (the joint loop's frames hold that many), found " +
                              std::to_string(rig.joints.size()));
   }
+}
 
-  std::vector<GroupEntry> groups;
+void read_groups(MapReader& root, RigConfig& rig, SectionReaders& readers) {
   if (!root.has("groups"))
     root.error("groups", "missing key (expected a map of joint groups by name)");
   for (auto& [name, reader] : root.named_maps("groups")) {
     rig.groups.push_back(read_group(name, reader));
-    groups.push_back(GroupEntry{reader});
+    readers.groups.push_back(GroupEntry{reader});
   }
   if (root.has("groups") && rig.groups.empty()) {
     root.error("groups", "expected at least one group, found none");
   }
+}
 
-  std::vector<MapReader> camera_readers;
+/// The cameras' pixels together are bounded too: the sim renders and keeps every camera's
+/// frames. The camera that passes the bound is the one reported.
+void read_cameras(MapReader& root, RigConfig& rig, SectionReaders& readers) {
   std::int64_t camera_pixels = 0;
   for (auto& [name, reader] : root.named_maps("cameras")) {
     const CleanRead camera_read(reader);
     rig.cameras.push_back(read_camera(name, reader));
-    camera_readers.push_back(reader);
+    readers.cameras.push_back(reader);
     const CameraConfig& camera = rig.cameras.back();
     camera_pixels += std::int64_t{camera.width_px} * camera.height_px;
     if (camera_read.clean() && camera_pixels > kMaxCameraPixels) {
@@ -607,52 +623,65 @@ RigConfig read_rig(MapReader root, const std::string& file) {
                            std::to_string(camera_pixels) + " with this camera");
     }
   }
+}
 
-  std::optional<MapReader> stereo_reader = root.optional_map("stereo");
-  if (stereo_reader) {
+/// The pair's cameras and baseline are checked against the cameras and joints later
+/// (check_stereo), once every section was read.
+void read_stereo(MapReader& root, RigConfig& rig, SectionReaders& readers) {
+  readers.stereo = root.optional_map("stereo");
+  if (readers.stereo) {
     StereoConfig stereo;
-    stereo.left_camera = stereo_reader->text("left_camera");
-    stereo.right_camera = stereo_reader->text("right_camera");
-    stereo.baseline_m = stereo_reader->number("baseline_m", Range::positive());
-    stereo_reader->finish();
+    stereo.left_camera = readers.stereo->text("left_camera");
+    stereo.right_camera = readers.stereo->text("right_camera");
+    stereo.baseline_m = readers.stereo->number("baseline_m", Range::positive());
+    readers.stereo->finish();
     rig.stereo = stereo;
   }
+}
 
-  std::vector<MapReader> touch_readers;
-  for (auto& [name, reader] : root.named_maps("touch_sensors")) {
-    TouchSensorConfig sensor;
-    sensor.name = name;
-    sensor.backend = read_backend_name(reader, sensor.backend);
-    sensor.backend_at = reader.location_of("backend");
-    sensor.parent = reader.text("parent");
-    if (reader.has("fingertip_xy_m")) {
-      const CleanRead tip_read(reader);
-      // Along the finger: a hand's size; off the midline: within half a gripper's span.
-      const auto tip = reader.numbers("fingertip_xy_m", Range::closed(0.0, 1.0));
-      if (tip_read.clean() && tip.size() != 2) {
-        reader.error("fingertip_xy_m",
-                     "expected a list of 2 numbers [x, y] in m, found a list of " +
-                         std::to_string(tip.size()));
-      } else if (tip_read.clean() && (tip[0] < 0.01 || tip[1] > 0.2)) {
-        reader.error("fingertip_xy_m",
-                     "expected x in [0.01, 1] m (along the finger) and y in "
-                     "[0, 0.2] m (off the gripper's midline)");
-      } else if (tip_read.clean()) {
-        sensor.fingertip_x_m = tip[0];
-        sensor.fingertip_y_m = tip[1];
-      }
+TouchSensorConfig read_touch_sensor(const std::string& name, MapReader& reader) {
+  TouchSensorConfig sensor;
+  sensor.name = name;
+  sensor.backend = read_backend_name(reader, sensor.backend);
+  sensor.backend_at = reader.location_of("backend");
+  sensor.parent = reader.text("parent");
+  if (reader.has("fingertip_xy_m")) {
+    const CleanRead tip_read(reader);
+    // Along the finger: a hand's size; off the midline: within half a gripper's span.
+    const auto tip = reader.numbers("fingertip_xy_m", Range::closed(0.0, 1.0));
+    if (tip_read.clean() && tip.size() != 2) {
+      reader.error("fingertip_xy_m", "expected a list of 2 numbers [x, y] in m, found a list of " +
+                                         std::to_string(tip.size()));
+    } else if (tip_read.clean() && (tip[0] < 0.01 || tip[1] > 0.2)) {
+      reader.error("fingertip_xy_m",
+                   "expected x in [0.01, 1] m (along the finger) and y in "
+                   "[0, 0.2] m (off the gripper's midline)");
+    } else if (tip_read.clean()) {
+      sensor.fingertip_x_m = tip[0];
+      sensor.fingertip_y_m = tip[1];
     }
-    rig.touch_sensors.push_back(std::move(sensor));
-    reader.finish();
-    touch_readers.push_back(reader);
   }
+  reader.finish();
+  return sensor;
+}
 
-  std::vector<MapReader> bus_readers;
+void read_touch_sensors(MapReader& root, RigConfig& rig, SectionReaders& readers) {
+  for (auto& [name, reader] : root.named_maps("touch_sensors")) {
+    rig.touch_sensors.push_back(read_touch_sensor(name, reader));
+    readers.touch_sensors.push_back(reader);
+  }
+}
+
+void read_can_buses(MapReader& root, RigConfig& rig, SectionReaders& readers) {
   for (auto& [name, reader] : root.named_maps("can_buses")) {
     rig.can_buses.push_back(read_can_bus(name, reader));
-    bus_readers.push_back(reader);
+    readers.can_buses.push_back(reader);
   }
+}
 
+/// The file's loops, then the standard loops it leaves out; a group without a rate of its own
+/// runs at the joint loop's.
+void read_loops(MapReader& root, RigConfig& rig) {
   for (auto& [name, reader] : root.named_maps("loops"))
     rig.loops.push_back(read_loop(name, reader));
   for (const auto& loop : default_loops()) {
@@ -661,7 +690,9 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   for (auto& group : rig.groups) {
     if (!group.own_rate) group.rate_hz = rig.find_loop("joint")->rate_hz;
   }
+}
 
+void read_sim_section(MapReader& root, RigConfig& rig) {
   if (auto sim = root.optional_map("sim")) {
     rig.sim.physics_rate_hz = sim->number_or(
         "physics_rate_hz", rig.sim.physics_rate_hz,
@@ -678,44 +709,79 @@ RigConfig read_rig(MapReader root, const std::string& file) {
     }
     sim->finish();
   }
+}
+
+void read_runtime_section(MapReader& root, RigConfig& rig) {
   if (auto runtime = root.optional_map("runtime")) {
     rig.runtime.lock_memory = runtime->boolean_or("lock_memory", false);
     runtime->finish();
   }
-  root.finish();
+}
 
-  // Consistency across sections, on what was read. Some checks walk the joints once per joint:
-  // with too many joints (already reported) they are skipped.
-  for (const auto& joint : joints) {
+/// Where each key of the sections was, for the checks a later layer makes (RigConfig::locations).
+void record_section_locations(const SectionReaders& readers, RigConfig& rig) {
+  for (const auto& joint : readers.joints) {
     joint.reader.record_locations(rig.locations);
     if (joint.can) joint.can->record_locations(rig.locations);
   }
-  for (const auto& group : groups) group.reader.record_locations(rig.locations);
-  for (const auto& reader : camera_readers) reader.record_locations(rig.locations);
-  for (const auto& reader : touch_readers) reader.record_locations(rig.locations);
-  for (const auto& reader : bus_readers) reader.record_locations(rig.locations);
+  for (const auto& group : readers.groups) group.reader.record_locations(rig.locations);
+  for (const auto& reader : readers.cameras) reader.record_locations(rig.locations);
+  for (const auto& reader : readers.touch_sensors) reader.record_locations(rig.locations);
+  for (const auto& reader : readers.can_buses) reader.record_locations(rig.locations);
+}
 
-  if (too_many_joints) root.issues()->throw_if_any();
-  const std::vector<std::string> joint_names = names_of(rig.joints);
-  check_group_membership(rig, joints, groups, joint_names);
-  check_kinematic_tree(rig, joints, joint_names);
+/// Cameras hang from "base" or a joint; touch sensors from a joint (a gripper).
+void check_sensor_parents(const RigConfig& rig, SectionReaders& readers,
+                          const std::vector<std::string>& joint_names) {
   std::vector<std::string> link_names{std::string(kBase)};
   link_names.insert(link_names.end(), joint_names.begin(), joint_names.end());
   for (std::size_t c = 0; c < rig.cameras.size(); ++c) {
     const auto& parent = rig.cameras[c].parent;
     if (!parent.empty() && parent != kBase && rig.find_joint(parent) == nullptr) {
-      camera_readers[c].error("parent",
-                              unknown_name_message("\"base\" or a joint", parent, link_names));
+      readers.cameras[c].error("parent",
+                               unknown_name_message("\"base\" or a joint", parent, link_names));
     }
   }
   for (std::size_t t = 0; t < rig.touch_sensors.size(); ++t) {
     const auto& parent = rig.touch_sensors[t].parent;
     if (!parent.empty() && rig.find_joint(parent) == nullptr) {
-      touch_readers[t].error("parent", unknown_name_message("a joint", parent, joint_names));
+      readers.touch_sensors[t].error("parent",
+                                     unknown_name_message("a joint", parent, joint_names));
     }
   }
-  if (rig.stereo) check_stereo(rig, *stereo_reader, names_of(rig.cameras));
+}
 
+/// Consistency across sections, on what was read. Some checks walk the joints once per joint:
+/// with too many joints (already reported) they are skipped, and what was found so far thrown.
+void check_consistency(MapReader& root, RigConfig& rig, SectionReaders& readers) {
+  if (readers.too_many_joints) root.issues()->throw_if_any();
+  const std::vector<std::string> joint_names = names_of(rig.joints);
+  check_group_membership(rig, readers.joints, readers.groups, joint_names);
+  check_kinematic_tree(rig, readers.joints, joint_names);
+  check_sensor_parents(rig, readers, joint_names);
+  if (rig.stereo) check_stereo(rig, *readers.stereo, names_of(rig.cameras));
+}
+
+}  // namespace
+
+RigConfig read_rig(MapReader root, const std::string& file) {
+  RigConfig rig;
+  rig.source_file = file;
+  SectionReaders readers;
+  read_rig_header(root, rig);
+  read_joints(root, rig, readers);
+  read_groups(root, rig, readers);
+  read_cameras(root, rig, readers);
+  read_stereo(root, rig, readers);
+  read_touch_sensors(root, rig, readers);
+  read_can_buses(root, rig, readers);
+  read_loops(root, rig);
+  read_sim_section(root, rig);
+  read_runtime_section(root, rig);
+  root.finish();
+
+  record_section_locations(readers, rig);
+  check_consistency(root, rig, readers);
   root.issues()->throw_if_any();
   return rig;
 }

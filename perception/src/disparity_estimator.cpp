@@ -71,71 +71,105 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
             shifted);
     return;
   }
+  const CandidateEvidence best =
+      refine_candidates(left, right, left_retina, right_retina, *scan, out, shifted);
+  out.candidates = scan->count;
+  out.confidence = scan_confidence(best, runner_up_key(*scan, out.disparity_px));
+}
+
+DisparityEstimator::CandidateEvidence DisparityEstimator::refine_candidates(
+    const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
+    const Retina& right_retina, const DisparityScanResult& scan, DisparityResult& out,
+    ShiftedLevelSource* shifted) const noexcept {
   // Every candidate of the scan is refined through the finer levels; the one the fixated patch
   // agrees with best (the scan's score plus the finer levels' peaks) wins. A wrong candidate
   // (a backdrop, a repeated texture) finds no peak at the finer levels, whose windows hold the
   // fixated surface alone.
-  float best_key = -1e9f;
-  float second_key = -1e9f;
-  float best_weight = 1.0f;
-  float best_texture = 0.0f;
-  for (int i = 0; i < scan->count; ++i) {
-    const DisparityCandidate& candidate = scan->candidates[static_cast<std::size_t>(i)];
-    DisparityResult& trial = trial_;
-    trial = DisparityResult{};
-    trial.levels = out.levels;
-    LevelDisparity& scanned = trial.per_level[static_cast<std::size_t>(scan->level)];
-    scanned.searched = true;
-    scanned.valid = true;
-    scanned.disparity_px = candidate.disparity_px;
-    scanned.peak_score = candidate.score;
-    scanned.texture_rms = scan->texture_rms;
-    scanned.scale_px = scan->scale_px;
-    trial.valid = true;
-    trial.disparity_px = candidate.disparity_px;
-    trial.level = scan->level;
-    descend(left, right, left_retina, right_retina, scan->level - 1, true, candidate.disparity_px,
-            scan->scale_px, trial, shifted);
-    float key = candidate.score + candidate.context_score;
-    float weight = 2.0f;
-    float texture = scan->texture_rms;
-    for (int k = scan->level - 1; k >= 0; --k) {
-      const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];
-      if (!level.searched || level.texture_rms < config_.min_texture_rms) continue;
-      // The finer levels' windows are smaller (a 9-px window at level 0 may see one smooth
-      // texel): they tip the balance between candidates the scan finds alike, not more.
-      key += kFinerLevelWeight * (level.valid ? level.peak_score : 0.0f);
-      weight += kFinerLevelWeight;
-      texture = std::max(texture, level.texture_rms);
-    }
-    keys_[static_cast<std::size_t>(i)] = key;
-    refined_[static_cast<std::size_t>(i)] = trial.disparity_px;
-    if (key > best_key) {
-      best_key = key;
-      best_weight = weight;
-      best_texture = texture;
-      out = trial;
+  CandidateEvidence best;
+  for (int i = 0; i < scan.count; ++i) {
+    const DisparityCandidate& candidate = scan.candidates[static_cast<std::size_t>(i)];
+    descend_from_candidate(left, right, left_retina, right_retina, scan, candidate, out.levels,
+                           shifted);
+    const CandidateEvidence evidence = weigh_candidate(scan, candidate, trial_);
+    keys_[static_cast<std::size_t>(i)] = evidence.key;
+    refined_[static_cast<std::size_t>(i)] = trial_.disparity_px;
+    if (evidence.key > best.key) {
+      best = evidence;
+      out = trial_;
     }
   }
-  out.candidates = scan->count;
+  return best;
+}
+
+void DisparityEstimator::descend_from_candidate(const FeatureMaps& left, const FeatureMaps& right,
+                                                const Retina& left_retina,
+                                                const Retina& right_retina,
+                                                const DisparityScanResult& scan,
+                                                const DisparityCandidate& candidate, int levels,
+                                                ShiftedLevelSource* shifted) const noexcept {
+  DisparityResult& trial = trial_;
+  trial = DisparityResult{};
+  trial.levels = levels;
+  // The scan's level holds the candidate as if this estimator had found it there.
+  LevelDisparity& scanned = trial.per_level[static_cast<std::size_t>(scan.level)];
+  scanned.searched = true;
+  scanned.valid = true;
+  scanned.disparity_px = candidate.disparity_px;
+  scanned.peak_score = candidate.score;
+  scanned.texture_rms = scan.texture_rms;
+  scanned.scale_px = scan.scale_px;
+  trial.valid = true;
+  trial.disparity_px = candidate.disparity_px;
+  trial.level = scan.level;
+  descend(left, right, left_retina, right_retina, scan.level - 1, true, candidate.disparity_px,
+          scan.scale_px, trial, shifted);
+}
+
+DisparityEstimator::CandidateEvidence DisparityEstimator::weigh_candidate(
+    const DisparityScanResult& scan, const DisparityCandidate& candidate,
+    const DisparityResult& trial) const noexcept {
+  CandidateEvidence evidence;
+  evidence.key = candidate.score + candidate.context_score;
+  evidence.weight = 2.0f;
+  evidence.texture = scan.texture_rms;
+  for (int k = scan.level - 1; k >= 0; --k) {
+    const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];
+    if (!level.searched || level.texture_rms < config_.min_texture_rms) continue;
+    // The finer levels' windows are smaller (a 9-px window at level 0 may see one smooth
+    // texel): they tip the balance between candidates the scan finds alike, not more.
+    evidence.key += kFinerLevelWeight * (level.valid ? level.peak_score : 0.0f);
+    evidence.weight += kFinerLevelWeight;
+    evidence.texture = std::max(evidence.texture, level.texture_rms);
+  }
+  return evidence;
+}
+
+float DisparityEstimator::runner_up_key(const DisparityScanResult& scan,
+                                        float winner_px) const noexcept {
   // The runner-up is the best hypothesis of another disparity: candidates that refined to the
   // winner's (neighbouring maxima of one textured surface) are the same hypothesis.
-  for (int i = 0; i < scan->count; ++i) {
+  float second_key = -1e9f;
+  for (int i = 0; i < scan.count; ++i) {
     const auto at = static_cast<std::size_t>(i);
-    if (std::abs(refined_[at] - out.disparity_px) > 1.5f * static_cast<float>(scan->scale_px)) {
+    if (std::abs(refined_[at] - winner_px) > 1.5f * static_cast<float>(scan.scale_px)) {
       second_key = std::max(second_key, keys_[at]);
     }
   }
+  return second_key;
+}
+
+float DisparityEstimator::scan_confidence(const CandidateEvidence& best,
+                                          float second_key) const noexcept {
   // Confidence, on the evidence the choice was made on: how well the winner matches (its mean
   // score per unit weight), how clearly it beats the best hypothesis of another disparity (a
   // periodic texture gives several alike: low), and whether there was texture to match at all
   // (the most textured level compared: a fine texture averages out at the scan's blocks).
-  const double quality = std::clamp(best_key / best_weight, 0.0f, 1.0f);
-  const double margin = second_key <= -1e8f ? quality : (best_key - second_key) / best_weight;
-  const double ratio = best_texture / config_.min_texture_rms;
+  const double quality = std::clamp(best.key / best.weight, 0.0f, 1.0f);
+  const double margin = second_key <= -1e8f ? quality : (best.key - second_key) / best.weight;
+  const double ratio = best.texture / config_.min_texture_rms;
   const double texture_factor = ratio * ratio / (1.0 + ratio * ratio);
-  out.confidence = static_cast<float>(
-      quality * quality * std::clamp(margin / kDistinctMargin, 0.0, 1.0) * texture_factor);
+  return static_cast<float>(quality * quality * std::clamp(margin / kDistinctMargin, 0.0, 1.0) *
+                            texture_factor);
 }
 
 void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& right,

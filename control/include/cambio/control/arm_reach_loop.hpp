@@ -118,10 +118,32 @@ class ArmReachLoop final : public hal::Loop {
   };
 
   void apply(const ArmCommand& command, std::int64_t now_ns) noexcept;
+  // apply()'s actions. kGrasp closes, kRelease opens the grippers of `sides`.
+  void set_gripper_goals(ArmAction action, const std::array<bool, 2>& sides) noexcept;
+  void move_joint(const ArmCommand& command) noexcept;
+  void reach(const ArmCommand& command, const std::array<bool, 2>& sides,
+             std::int64_t now_ns) noexcept;
+  // The command's point, or the believed fixation; false (the named sides refused) for none.
+  bool reach_target(const ArmCommand& command, const std::array<bool, 2>& sides,
+                    Eigen::Vector3d& target_W) noexcept;
+  // kNearest: the nearer arm, else the other.
+  void reach_with_nearer_arm(const Eigen::Vector3d& target_W, std::int64_t now_ns) noexcept;
   bool start_reach(int side, const Eigen::Vector3d& target_W, std::int64_t now_ns) noexcept;
   void refuse(int side, const char* why) noexcept;
   void stop(int side) noexcept;
   void reach_step(int side, std::int64_t now_ns, double dt_s) noexcept;
+  // reach_step()'s steps. True when the touch sensor stopped the reach.
+  bool stop_on_touch(Arm& arm, ArmStatus::Arm& s, std::int64_t now_ns) noexcept;
+  // The fingertips' linear velocity per arm joint velocity, at the commanded pose.
+  void tip_jacobian_W(const Arm& arm, const Eigen::Vector3d& tip,
+                      Eigen::Matrix<double, 3, 4>& J_v) noexcept;
+  // The servo's joint velocities toward e_W; false when it finds none.
+  bool solve_joint_velocities(const Arm& arm, const Eigen::Vector3d& e_W,
+                              const Eigen::Matrix<double, 3, 4>& J_v,
+                              Eigen::Vector4d& qdot) noexcept;
+  // Integrates qdot into the commanded joints, capped and ramped.
+  void advance_joints(const Arm& arm, std::int64_t command_ns, std::int64_t now_ns, double dt_s,
+                      const Eigen::Matrix<double, 3, 4>& J_v, const Eigen::Vector4d& qdot) noexcept;
   Eigen::Vector3d tip_W(const Kinematics& kinematics, const Arm& arm) const noexcept;
 
   std::string name_ = "arm";

@@ -92,6 +92,30 @@ class DisparityEstimator {
   void descend(const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
                const Retina& right_retina, int from_level, bool have_estimate, double estimate_px,
                int coarser_scale, DisparityResult& out, ShiftedLevelSource* shifted) const noexcept;
+  /// A scan candidate's case after its descent: its score summed over the levels compared, the
+  /// weight they sum to, and the most textured of them. The defaults stand for no candidate.
+  struct CandidateEvidence {
+    float key = -1e9f;
+    float weight = 1.0f;
+    float texture = 0.0f;
+  };
+  /// Refines each scan candidate (keys_, refined_) and puts the best's descent in `out`.
+  CandidateEvidence refine_candidates(const FeatureMaps& left, const FeatureMaps& right,
+                                      const Retina& left_retina, const Retina& right_retina,
+                                      const DisparityScanResult& scan, DisparityResult& out,
+                                      ShiftedLevelSource* shifted) const noexcept;
+  /// One candidate's descent from the level below the scan's, into trial_.
+  void descend_from_candidate(const FeatureMaps& left, const FeatureMaps& right,
+                              const Retina& left_retina, const Retina& right_retina,
+                              const DisparityScanResult& scan, const DisparityCandidate& candidate,
+                              int levels, ShiftedLevelSource* shifted) const noexcept;
+  CandidateEvidence weigh_candidate(const DisparityScanResult& scan,
+                                    const DisparityCandidate& candidate,
+                                    const DisparityResult& trial) const noexcept;
+  /// The best key of a candidate that refined to another disparity than `winner_px`; -1e9 for
+  /// none.
+  float runner_up_key(const DisparityScanResult& scan, float winner_px) const noexcept;
+  float scan_confidence(const CandidateEvidence& best, float second_key) const noexcept;
   /// The winner's lead over the runner-up (ZNCC per level) at which it is fully distinct.
   static constexpr double kDistinctMargin = 0.3;
   /// How much a finer level's peak counts, against the scan level's, in choosing a candidate.

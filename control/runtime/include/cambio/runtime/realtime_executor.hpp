@@ -39,6 +39,24 @@ class RealtimeExecutor final : public Executor {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
+  /// What one run's threads share (realtime_executor.cpp).
+  struct RunState;
+
+  /// Records a refusal (printed too, with print_warnings); safe from the loops' threads.
+  void warn(RunState& state, std::string text);
+  /// The body of loop `index`'s thread.
+  void run_loop(std::size_t index, RunState& state);
+  /// The loop's CPU affinity and SCHED_FIFO priority, where the system grants them.
+  void pin_to_cpu(const ScheduledLoop& scheduled, LoopStatistics& stats, RunState& state);
+  void raise_priority(const ScheduledLoop& scheduled, LoopStatistics& stats, RunState& state);
+  /// False (the run aborted, the exception kept) when either throws.
+  bool configure_and_activate(std::size_t index, RunState& state);
+  /// Waits for every loop to be configured; returns the start the loops share.
+  std::int64_t wait_for_common_start(std::size_t index, RunState& state);
+  void run_cycles(const ScheduledLoop& scheduled, LoopStatistics& stats, std::int64_t start,
+                  RunState& state);
+  void report_progress_until_finished(RunState& state, const Progress& progress);
+
   hal::MonotonicClock clock_;
   std::vector<ScheduledLoop> loops_;
   RealtimeOptions options_;

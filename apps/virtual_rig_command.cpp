@@ -1,42 +1,29 @@
 // `cambio virtual-rig --config RIG [--set key=value]... [--fault SPEC]... [--fault-file FILE]
 // [--seed N] [--duration-s S]`: emulates one CiA 402 drive per CAN joint of the rig on the
-// interfaces its can_buses name, until SIGINT/SIGTERM or the duration.
-#include <cstdio>
+// interfaces its can_buses name, until SIGINT/SIGTERM or the duration. The emulation is in
+// runs/virtual_rig_run.hpp.
 #include <filesystem>
 #include <fstream>
-#include <iostream>
-#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "argument_parser.hpp"
 #include "bounded_line.hpp"
-#include "cambio/can/socketcan_bus.hpp"
 #include "cambio/canopen/can_rig_check.hpp"
 #include "cambio/canopen/can_rig_from_config.hpp"
 #include "cambio/canopen/socketcan_backend.hpp"
 #include "cambio/config/echoed_text.hpp"
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/shipped_config.hpp"
-#include "cambio/hal/monotonic_clock.hpp"
-#include "cambio/virtual_rig/virtual_rig.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
-#include "peak_rss.hpp"
-#include "stop_signal.hpp"
+#include "virtual_rig_run.hpp"
 
 namespace cambio::app {
 
 namespace {
-
-/// The one place the virtual rig meets the kernel's CAN stack.
-std::unique_ptr<hal::CanBus> open_socketcan_bus(const canopen::CanBusInfo& info) {
-  can::SocketCanOptions options;
-  options.interface = info.interface;
-  options.fd = info.fd;
-  return can::SocketCanBus::open(options);
-}
 
 /// Fault specifications from a file, one per line; blank lines and # comments are skipped.
 std::vector<virtual_rig::FaultInjection> read_fault_file(const std::string& path) {
@@ -73,6 +60,51 @@ std::vector<virtual_rig::FaultInjection> read_fault_file(const std::string& path
   return faults;
 }
 
+/// The seed and the faults of --fault, then those of --fault-file.
+virtual_rig::VirtualRigOptions emulation_options(const ArgumentParser& parser, long long seed) {
+  virtual_rig::VirtualRigOptions options;
+  options.seed = static_cast<std::uint64_t>(seed);
+  for (const auto& spec : parser.values("fault")) {
+    try {
+      options.faults.push_back(virtual_rig::parse_fault(spec));
+    } catch (const std::invalid_argument& error) {
+      throw UsageError("virtual-rig: --fault " + std::string(error.what()));
+    }
+  }
+  if (parser.has("fault-file")) {
+    for (auto& fault : read_fault_file(parser.value("fault-file"))) options.faults.push_back(fault);
+  }
+  return options;
+}
+
+/// The rig with the --set overrides; nullopt (the issues printed) when it is invalid or its
+/// CANopen side is not one a master would drive.
+std::optional<config::RigConfig> load_checked_rig_or_report(const ArgumentParser& parser) {
+  std::vector<config::ConfigOverride> overrides;
+  try {
+    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return std::nullopt;
+  }
+  auto rig = load_rig_or_report(config::resolve_config_argument("rigs", parser.value("config")),
+                                overrides);
+  if (!rig) return std::nullopt;
+  // The rig's CANopen side as the master checks it (buses defined, node ids unique per bus), each
+  // problem at its key: the drives emulated are those a master would drive.
+  std::vector<config::ConfigIssue> issues;
+  for (auto& problem : canopen::check_can_rig(config::hardware_description(*rig),
+                                              canopen::can_rig_from_config(*rig),
+                                              canopen::SocketCanBackend::kName)) {
+    issues.push_back(rig->locate(problem.key_path, std::move(problem.message)));
+  }
+  if (!issues.empty()) {
+    report_config_error(config::ConfigError(std::move(issues)));
+    return std::nullopt;
+  }
+  return rig;
+}
+
 }  // namespace
 
 int run_virtual_rig_command(std::span<const std::string> args) {
@@ -95,91 +127,10 @@ int run_virtual_rig_command(std::span<const std::string> args) {
                                           "seconds to run, up to about four months");
   const long long seed = parser.integer("seed", 1, config::Range{0.0, 9e15},
                                         "a whole number the noise generator starts from");
-
-  virtual_rig::VirtualRigOptions options;
-  options.seed = static_cast<std::uint64_t>(seed);
-  for (const auto& spec : parser.values("fault")) {
-    try {
-      options.faults.push_back(virtual_rig::parse_fault(spec));
-    } catch (const std::invalid_argument& error) {
-      throw UsageError("virtual-rig: --fault " + std::string(error.what()));
-    }
-  }
-  if (parser.has("fault-file")) {
-    for (auto& fault : read_fault_file(parser.value("fault-file"))) options.faults.push_back(fault);
-  }
-
-  std::vector<config::ConfigOverride> overrides;
-  try {
-    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
-  } catch (const config::ConfigError& error) {
-    report_config_error(error);
-    return kExitBadInput;
-  }
-  const auto rig = load_rig_or_report(
-      config::resolve_config_argument("rigs", parser.value("config")), overrides);
+  const virtual_rig::VirtualRigOptions options = emulation_options(parser, seed);
+  const std::optional<config::RigConfig> rig = load_checked_rig_or_report(parser);
   if (!rig) return kExitBadInput;
-  // The rig's CANopen side as the master checks it (buses defined, node ids unique per bus), each
-  // problem at its key: the drives emulated are those a master would drive.
-  std::vector<config::ConfigIssue> issues;
-  for (auto& problem : canopen::check_can_rig(config::hardware_description(*rig),
-                                              canopen::can_rig_from_config(*rig),
-                                              canopen::SocketCanBackend::kName)) {
-    issues.push_back(rig->locate(problem.key_path, std::move(problem.message)));
-  }
-  if (!issues.empty()) {
-    report_config_error(config::ConfigError(std::move(issues)));
-    return kExitBadInput;
-  }
-
-  std::unique_ptr<virtual_rig::VirtualRig> emulated;
-  try {
-    emulated = std::make_unique<virtual_rig::VirtualRig>(*rig, &open_socketcan_bus, options);
-  } catch (const std::exception& error) {
-    std::cerr << "cambio virtual-rig: " << error.what() << "\n";
-    return kExitBadInput;
-  }
-
-  for (std::size_t b = 0; b < emulated->bus_count(); ++b) {
-    std::cout << "bus " << emulated->bus_info(b).name << " on "
-              << emulated->bus_info(b).interface << ":";
-    for (std::size_t k = 0; k < emulated->drive_count(b); ++k) {
-      std::cout << " node " << emulated->drive(b, k).node_id() << " (" << emulated->joint_name(b, k)
-                << ")";
-    }
-    std::cout << "\n";
-  }
-  for (const auto& fault : options.faults) std::cout << "fault: " << describe(fault) << "\n";
-  std::cout << std::flush;
-
-  const auto& stop = install_stop_signal_handlers();
-  hal::MonotonicClock clock;
-  const std::int64_t end_ns = duration_s > 0.0
-                                  ? clock.now_ns() + static_cast<std::int64_t>(duration_s * 1e9)
-                                  : std::numeric_limits<std::int64_t>::max();
-  emulated->run(clock, stop, end_ns);
-
-  for (std::size_t b = 0; b < emulated->bus_count(); ++b) {
-    for (std::size_t k = 0; k < emulated->drive_count(b); ++k) {
-      const auto& drive = emulated->drive(b, k);
-      const auto& c = drive.counters();
-      std::printf(
-          "node %d (%s): %llu SYNCs, %llu RPDOs, %llu TPDOs sent, %llu dropped, %llu late, "
-          "%llu EMCY, %llu heartbeats, %llu malformed frames, %llu send failures\n",
-          drive.node_id(), emulated->joint_name(b, k).c_str(),
-          static_cast<unsigned long long>(c.syncs), static_cast<unsigned long long>(c.rpdos),
-          static_cast<unsigned long long>(c.tpdos_sent),
-          static_cast<unsigned long long>(c.tpdos_dropped),
-          static_cast<unsigned long long>(c.tpdos_late),
-          static_cast<unsigned long long>(c.emergencies),
-          static_cast<unsigned long long>(c.heartbeats),
-          static_cast<unsigned long long>(c.malformed_frames),
-          static_cast<unsigned long long>(c.send_failures));
-    }
-  }
-  std::printf("virtual-rig: peak RSS %ld KiB\n", peak_rss_kib());
-  const int signal_number = stop_signal_number();
-  return signal_number != 0 ? exit_status_for_signal(signal_number) : kExitOk;
+  return run_virtual_rig(*rig, options, duration_s);
 }
 
 }  // namespace cambio::app

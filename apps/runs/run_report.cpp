@@ -1,0 +1,68 @@
+#include "run_report.hpp"
+
+#include <iostream>
+#include <string>
+
+namespace cambio::app {
+
+namespace {
+
+void print_device_counts(const MainJobResult& result) {
+  std::cout << "camera frames grabbed: " << result.camera_frames << " (" << result.stereo_pairs
+            << " stereo pairs, " << result.mismatched_stereo_pairs
+            << " refused for mismatched stamps)"
+            << ", joint-loop holds: " << result.startup_hold_cycles
+            << " cycles before the first targets, watchdog " << result.watchdog_cycles
+            << " cycles, fault/stale holds: " << result.fault_hold_cycles << " cycles"
+            << (result.fault_recoveries > 0
+                    ? ", fault recoveries: " + std::to_string(result.fault_recoveries)
+                    : "")
+            << "\n";
+  for (const auto& report : result.can_groups) {
+    const auto& c = report.counters;
+    std::cout << "CAN group " << report.group << ": " << c.syncs_sent << " SYNCs, "
+              << c.tpdos_received << " TPDOs, " << c.missed_sync_answers << " missed answers, "
+              << c.late_tpdos << " late TPDOs, " << c.emergencies << " EMCY, " << c.error_frames
+              << " error frames, " << c.tx_queue_full << " frames refused by a full queue, "
+              << c.malformed_frames + c.unexpected_frames << " malformed/unexpected frames\n";
+  }
+  if (result.fault_latched_at_end) {
+    std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
+  }
+}
+
+void print_task_results(const MainJobResult& result) {
+  if (result.perception) {
+    const auto& d = result.perception->disparity;
+    std::cout << "perception: " << result.perception->sequence << " stereo frames; disparity at "
+              << "the fovea " << (d.valid ? std::to_string(d.disparity_px) + " px" : "invalid")
+              << " (confidence " << d.confidence << ")\n";
+  }
+  if (result.behaviour) {
+    const BehaviourReport& behaviour = *result.behaviour;
+    std::cout << "behaviour " << behaviour.name << ": " << behaviour.steps << " steps; "
+              << behaviour.status << "\n";
+    if (behaviour.failed) std::cerr << "cambio run: behaviour stopped: " << behaviour.error << "\n";
+  }
+}
+
+}  // namespace
+
+void print_run_report(const MainJobResult& result) {
+  std::cout << runtime::format_statistics_table(result.loops.data(), result.loops.size());
+  std::cout << runtime::format_wall_time_shares(
+      runtime::wall_time_shares(result.loops.data(), result.loops.size(), result.wall_s),
+      result.wall_s, !result.realtime);
+  print_device_counts(result);
+  print_task_results(result);
+}
+
+void warn_allocating_loops(const MainJobResult& result) {
+  for (const auto& loop : result.loops) {
+    if (runtime::passes_allocation_gate(loop)) continue;
+    std::cerr << "cambio run: warning: loop '" << loop.name << "' allocated " << loop.allocations
+              << " times in update() without declaring it\n";
+  }
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,64 @@
+#include "run_results.hpp"
+
+#include <iostream>
+
+#include "image_files.hpp"
+#include "run_plots.hpp"
+#include "run_summary.hpp"
+#include "stop_signal.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+/// Cameras that never delivered a frame have none to write.
+void stage_last_frames(OutputDirectory& out, MainJob& job) {
+  const auto frames = job.last_frames();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i].sequence == 0) continue;
+    out.stage(job.cameras()[i].name + ".png", encode_png(frames[i]));
+  }
+}
+
+/// The plots' inputs; the saccade window from the last saccade command to the dominant eye's
+/// stop, when the metrics found one.
+PlotInputs plot_inputs(const config::ExperimentConfig& experiment, const MainJob& job,
+                       const MainJobResult& result,
+                       const std::optional<RunEvaluation>& evaluation) {
+  PlotInputs plots;
+  plots.title = experiment.name;
+  plots.joints = job.head_joint_names();
+  if (evaluation) {
+    const auto saccade = evaluation->metrics.find("saccade_duration_s");
+    const auto start = last_command_time(experiment, result, config::GazeAction::kSaccade);
+    if (saccade && start) {
+      plots.saccade_start_s = *start;
+      plots.saccade_end_s = *start + *saccade;
+    }
+  }
+  return plots;
+}
+
+}  // namespace
+
+void write_run_results(OutputDirectory& out, const config::ExperimentConfig& experiment,
+                       MainJob& job, const MainJobResult& result, const RunOutcome& outcome,
+                       const std::optional<RunEvaluation>& evaluation) {
+  stage_last_frames(out, job);
+  if (const Trace* trace = job.trace()) {
+    stage_trace(out, *trace);
+    const PlotInputs plots = plot_inputs(experiment, job, result, evaluation);
+    if (stop_hurried()) {
+      std::cerr << "cambio run: plots skipped: a second signal asked to hurry\n";
+    } else {
+      stage_plots(out, *trace, plots);
+    }
+  }
+  out.stage("summary.json",
+            json_text(summary_json(experiment, result, outcome, job.trace(), evaluation)));
+  out.commit();
+  std::cerr << "cambio run: wrote " << out.path().string() << " (" << out.files().size()
+            << " files)\n";
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,162 @@
+#include "run_summary.hpp"
+
+#include <string>
+
+#include "peak_rss.hpp"
+#include "renderer_report.hpp"
+#include "run_trace.hpp"
+
+namespace cambio::app {
+
+namespace {
+
+Json joint_loop_json(const MainJobResult& result) {
+  return {{"fault_recoveries", result.fault_recoveries},
+          {"startup_hold_cycles", result.startup_hold_cycles},
+          {"watchdog_hold_cycles", result.watchdog_cycles},
+          {"fault_hold_cycles", result.fault_hold_cycles},
+          {"fault_latched_at_end", result.fault_latched_at_end}};
+}
+
+Json perception_json(const perception::SsmSummary& perception) {
+  const auto& d = perception.disparity;
+  return {{"frames", perception.sequence},
+          {"disparity_valid", d.valid},
+          {"disparity_px", d.disparity_px},
+          {"confidence", d.confidence}};
+}
+
+Json gaze_json(const MainJobResult& result) {
+  const control::GazeStatus& gaze = *result.gaze;
+  return {{"commands_applied", gaze.commands_applied},
+          {"commands_rejected", result.gaze_rejected_commands},
+          {"last_refusal", std::string(control::to_string(gaze.last_refusal))},
+          {"disparity_measurements", result.gaze_measurements},
+          {"vergence_corrections", result.gaze_corrections},
+          {"final_action", gaze_action_name(gaze.action)},
+          {"final_vergence_rad", gaze.vergence_rad}};
+}
+
+Json behaviour_json(const BehaviourReport& behaviour) {
+  return {{"name", behaviour.name},
+          {"plugins", behaviour.plugins},
+          {"steps", behaviour.steps},
+          {"status", behaviour.status},
+          {"failed", behaviour.failed},
+          {"error", behaviour.failed ? Json(behaviour.error) : Json(nullptr)}};
+}
+
+/// Each present arm's last reach; times in s from the script's start, null when not reached.
+Json arms_json(const MainJobResult& result) {
+  const control::ArmStatus& arms = *result.arms;
+  Json sides = Json::object();
+  for (std::size_t side = 0; side < 2; ++side) {
+    if (!result.arm_present[side]) continue;
+    const control::ArmStatus::Arm& arm = arms.arms[side];
+    const auto seconds = [&](std::int64_t ns) {
+      return ns == 0 ? Json(nullptr)
+                     : Json(static_cast<double>(ns - result.script_start_ns) * 1e-9);
+    };
+    sides[side == 0 ? "left" : "right"] = {{"phase", reach_phase_name(arm.phase)},
+                                           {"gripper_closed", arm.gripper_closed},
+                                           {"command_s", seconds(arm.command_ns)},
+                                           {"touch_s", seconds(arm.touch_ns)},
+                                           {"target_m", arm.target_W_m},
+                                           {"gripper_m", arm.gripper_W_m},
+                                           {"distance_to_target_m", arm.distance_to_target_m}};
+  }
+  return {{"commands_applied", arms.commands_applied},
+          {"refusal", arms.refusal().empty() ? Json(nullptr) : Json(std::string(arms.refusal()))},
+          {"arms", sides}};
+}
+
+/// The visits (when the trace followed objects), the final joints and the trace's own figures.
+void add_trace_fields(Json& json, const Trace& trace, const config::ExperimentConfig& experiment) {
+  if (!trace.visit_objects.empty()) {
+    json["visits"] = visits_json(trace, experiment.evaluation.visit_dwell_s);
+  }
+  json["final_joints"] = final_joints_json(trace);
+  json["trace"] = {
+      {"rows", trace.rows.size()}, {"truncated", trace.truncated}, {"problems", trace.problems}};
+}
+
+Json can_group_json(const canopen::CanGroupCounters& c) {
+  return {{"syncs_sent", c.syncs_sent},
+          {"tpdos_received", c.tpdos_received},
+          {"missed_sync_answers", c.missed_sync_answers},
+          {"late_tpdos", c.late_tpdos},
+          {"malformed_frames", c.malformed_frames},
+          {"unexpected_frames", c.unexpected_frames},
+          {"tx_queue_full", c.tx_queue_full},
+          {"emergencies", c.emergencies},
+          {"error_frames", c.error_frames},
+          {"boot_ups", c.boot_ups},
+          {"receive_cap_reached", c.receive_cap_reached}};
+}
+
+/// The names of the loops that allocated in update() without declaring it.
+Json loops_that_allocated(const MainJobResult& result) {
+  Json over_budget = Json::array();
+  for (const auto& loop : result.loops) {
+    if (!runtime::passes_allocation_gate(loop)) over_budget.push_back(loop.name);
+  }
+  return over_budget;
+}
+
+/// The loops, devices and process: statistics, CAN counters, renderer, time shares, memory.
+void add_execution_fields(Json& json, const MainJobResult& result) {
+  json["loops"] = Json::array();
+  for (const auto& loop : result.loops) json["loops"].push_back(runtime::statistics_json(loop));
+  for (const auto& report : result.can_groups) {
+    json["can_groups"][report.group] = can_group_json(report.counters);
+  }
+  if (result.renderer) {
+    add_renderer_fields(json["renderer"], *result.renderer);
+  } else {
+    json["renderer"] = nullptr;
+  }
+  json["wall_time_shares"] = runtime::wall_time_shares_json(
+      runtime::wall_time_shares(result.loops.data(), result.loops.size(), result.wall_s),
+      result.wall_s, !result.realtime);
+  json["peak_rss_kib"] = peak_rss_kib();
+  const Json over_budget = loops_that_allocated(result);
+  json["allocation_gate"] = {{"passed", over_budget.empty()},
+                             {"loops_that_allocated", over_budget}};
+}
+
+}  // namespace
+
+Json summary_json(const config::ExperimentConfig& experiment, const MainJobResult& result,
+                  const RunOutcome& outcome, const Trace* trace,
+                  const std::optional<RunEvaluation>& evaluation) {
+  Json json;
+  json["experiment"] = experiment.name;
+  json["outcome"] = outcome.name;
+  json["exit_status"] = outcome.exit_status;
+  json["stopped_by"] = outcome.signal_name.empty() ? Json(nullptr) : Json(outcome.signal_name);
+  json["duration_s"] = experiment.duration_s;
+  json["rig"] = experiment.rig.name;
+  json["executor"] = result.realtime ? "realtime" : "lockstep";
+  json["seed"] = experiment.seed;
+  json["simulated_s"] = result.simulated_s;
+  json["wall_s"] = result.wall_s;
+  json["stopped_by_signal"] = result.stopped_by_signal;
+  json["camera_frames"] = result.camera_frames;
+  json["stereo_pairs"] = result.stereo_pairs;
+  json["mismatched_stereo_pairs"] = result.mismatched_stereo_pairs;
+  json["joint_loop"] = joint_loop_json(result);
+  if (result.perception) json["perception"] = perception_json(*result.perception);
+  if (result.gaze) json["gaze"] = gaze_json(result);
+  if (result.behaviour) json["behaviour"] = behaviour_json(*result.behaviour);
+  if (result.arms) json["arms"] = arms_json(result);
+  if (evaluation) {
+    json["metrics"] = metrics_json(evaluation->metrics);
+    json["goals"] = goals_json(evaluation->goals);
+    json["passed"] = all_passed(evaluation->goals);
+  }
+  if (trace != nullptr) add_trace_fields(json, *trace, experiment);
+  add_execution_fields(json, result);
+  return json;
+}
+
+}  // namespace cambio::app

@@ -198,8 +198,8 @@ TEST(GroupKeys, DefaultsAreTheMastersAndTheRigWideRate) {
   const RigConfig rig =
       load_rig_from_string(test::small_rig() + "loops:\n  joint: {rate_hz: 300}\n", "t");
   EXPECT_EQ(hardware_description(rig).find_group("head")->rate_hz, 300.0);
-  const canopen::CanGroupSettings& head =
-      canopen::can_rig_from_config(rig).find_group("head")->settings;
+  const canopen::CanRigInfo can_rig = canopen::can_rig_from_config(rig);
+  const canopen::CanGroupSettings& head = can_rig.find_group("head")->settings;
   const canopen::CanGroupSettings defaults;
   EXPECT_EQ(head.heartbeat_period_s, defaults.heartbeat_period_s);
   EXPECT_EQ(head.stale_after_missed_syncs, defaults.stale_after_missed_syncs);

@@ -85,6 +85,25 @@ TEST(DisparityScan, FindsTheFixatedObjectsDisparityAnywhereInTheRigsRange) {
   }
 }
 
+TEST(DisparityScan, AnObjectTooSmoothForTheFinerLevelsIsMeasuredBetweenTheScansBlocks) {
+  // Blobs tens of pixels wide: the fovea's 9-px windows see no texture, so the estimate is the
+  // scan level's (4-px blocks); its peak must be placed between blocks, not on the nearest.
+  const auto value = [](double x, int y, int l) {
+    const double u = x / 23.0;
+    const double v = y / 29.0;
+    return l == 1 ? 128.0 + 45.0 * std::sin(u) * std::cos(v) + 30.0 * std::cos(0.7 * u + 1.3 * v)
+                  : 128.0 + 30.0 * std::sin(x / 9.0 + y / 13.0);
+  };
+  for (const double object_d : {13.0, 26.5, -30.0, 41.75}) {
+    const auto [left, right] = layered_pair(object_d, 4.0, 100, value);
+    const DisparityResult result = run(paper_config_with_scan(), left, right);
+    ASSERT_TRUE(result.valid) << object_d;
+    // The premise: no level finer than the scan's refined it.
+    ASSERT_GE(result.level, 1) << object_d;
+    EXPECT_NEAR(result.disparity_px, object_d, 1.0) << object_d << " from level " << result.level;
+  }
+}
+
 TEST(DisparityScan, APeriodicTextureIsNotTrusted) {
   // Vertical stripes of a 24-px period: every 24 px of disparity matches alike, so the scan's
   // hypotheses tie and the confidence must say so, whatever disparity it reports.

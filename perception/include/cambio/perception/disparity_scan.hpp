@@ -14,7 +14,7 @@ namespace cambio::perception {
 
 /// One disparity the fixated patch may have: a local maximum of the scan's correlation.
 struct DisparityCandidate {
-  float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px (a whole number of scan blocks).
+  float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px (sub-block: parabola peak).
   float score = 0.0f;         ///< ZNCC at the scan level.
   /// ZNCC of a window twice as wide (the fixated object with its outline and surround) at this
   /// disparity: what tells apart the alike peaks of a periodic texture.

@@ -25,6 +25,8 @@ void PursuitTracker::start(const Eigen::Vector3d& direction_W, const Eigen::Matr
   R_WC_ = R_WC;
   stamp_ns_ = stamp_ns;
   angular_velocity_W_.setZero();
+  have_key_ = false;
+  last_frame_ = 0;
   active_ = true;
 }
 
@@ -44,10 +46,30 @@ void PursuitTracker::update(const perception::MotionResult& motion, const Eigen:
   Eigen::Vector3d direction = turned(direction_W_, angular_velocity_W_, dt_s);
   // The target's normalised image position in the previous frame, moved by the measured flow.
   const Eigen::Vector3d before_C = R_WC_.transpose() * direction_W_;
-  if (motion.valid && !motion.fixation_changed && before_C.z() > 1e-6 &&
-      std::isfinite(motion.flow_x_px) && std::isfinite(motion.flow_y_px)) {
-    const double x = before_C.x() / before_C.z() + static_cast<double>(motion.flow_x_px) / fx_px_;
-    const double y = before_C.y() / before_C.z() + static_cast<double>(motion.flow_y_px) / fy_px_;
+  const bool seen_before = before_C.z() > 1e-6;
+  // A key frame the tracker saw: the target's position there is the one it then believed.
+  const bool key_usable = motion.key_valid && std::isfinite(motion.key_flow_x_px) &&
+                          std::isfinite(motion.key_flow_y_px);
+  if (key_usable && seen_before && motion.key_frame != key_frame_ &&
+      motion.key_frame == last_frame_) {
+    key_xy_ = Eigen::Vector2d(before_C.x() / before_C.z(), before_C.y() / before_C.z());
+    key_frame_ = motion.key_frame;
+    have_key_ = true;
+  }
+  last_frame_ = motion.frame;
+  const bool from_key = key_usable && have_key_ && motion.key_frame == key_frame_;
+  const bool from_flow = motion.valid && !motion.fixation_changed && seen_before &&
+                         std::isfinite(motion.flow_x_px) && std::isfinite(motion.flow_y_px);
+  if (from_key || from_flow) {
+    double x = 0.0;
+    double y = 0.0;
+    if (from_key) {
+      x = key_xy_.x() + static_cast<double>(motion.key_flow_x_px) / fx_px_;
+      y = key_xy_.y() + static_cast<double>(motion.key_flow_y_px) / fy_px_;
+    } else {
+      x = before_C.x() / before_C.z() + static_cast<double>(motion.flow_x_px) / fx_px_;
+      y = before_C.y() / before_C.z() + static_cast<double>(motion.flow_y_px) / fy_px_;
+    }
     direction = (R_WC * Eigen::Vector3d(x, y, 1.0)).normalized();
     // The angular velocity that turned the old direction into the new one, low-pass filtered.
     const Eigen::Vector3d axis = direction_W_.cross(direction);

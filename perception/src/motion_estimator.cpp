@@ -36,10 +36,10 @@ MotionEstimator::MotionEstimator(const MotionConfig& config, double half_width_s
   // derivative of the normalised 2-D Gaussian, so gradients are grey levels per level pixel.
   derivative_taps_ = Taps::from(gaussian_derivative_kernel(1, Axis::kX, sigma, half_width_).row);
   const std::size_t plane = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  for (auto& frame : frames_) {
-    frame.smooth.assign(plane * static_cast<std::size_t>(levels), 0.0f);
-    frame.grad_x.assign(plane * static_cast<std::size_t>(levels), 0.0f);
-    frame.grad_y.assign(plane * static_cast<std::size_t>(levels), 0.0f);
+  for (Frame* frame : {&frames_[0], &frames_[1], &key_}) {
+    frame->smooth.assign(plane * static_cast<std::size_t>(levels), 0.0f);
+    frame->grad_x.assign(plane * static_cast<std::size_t>(levels), 0.0f);
+    frame->grad_y.assign(plane * static_cast<std::size_t>(levels), 0.0f);
   }
   const std::size_t rows =
       static_cast<std::size_t>(width) * static_cast<std::size_t>(height + 2 * half_width_);
@@ -123,14 +123,24 @@ bool MotionEstimator::track_level(const Frame& now, const Frame& before, int k, 
     }
     const double trace = a11 + a22;
     const double det = a11 * a22 - a12 * a12;
-    const double min_eigen = 0.5 * (trace - std::sqrt(std::max(0.0, trace * trace - 4.0 * det)));
+    const double root = std::sqrt(std::max(0.0, trace * trace - 4.0 * det));
+    const double min_eigen = 0.5 * (trace - root);
+    const double max_eigen = 0.5 * (trace + root);
     result.min_eigenvalue = static_cast<float>(min_eigen / n);
     result.residual_rms = static_cast<float>(std::sqrt(rr / n));
     result.iterations = iteration + 1;
-    if (result.min_eigenvalue < config_.min_eigenvalue || det <= 0.0) return false;
-    // S_now - S_before(p - u - du) ~ it + grad . du = 0.
-    const double dx = -(a22 * b1 - a12 * b2) / det;
-    const double dy = -(a11 * b2 - a12 * b1) / det;
+    if (max_eigen / n < config_.min_eigenvalue) return false;
+    // S_now - S_before(p - u - du) ~ it + grad . du = 0, solved with a prior that the update is
+    // zero (Tikhonov): along a direction the window has no structure in (stripes: the aperture
+    // problem) the estimate keeps its initial value instead of following noise, while the
+    // constrained direction converges to the same fixed point as without the prior.
+    const double prior = kAperturePrior * max_eigen;
+    const double r11 = a11 + prior;
+    const double r22 = a22 + prior;
+    const double rdet = r11 * r22 - a12 * a12;
+    if (!(rdet > 0.0)) return false;
+    const double dx = -(r22 * b1 - a12 * b2) / rdet;
+    const double dy = -(r11 * b2 - a12 * b1) / rdet;
     ux += static_cast<float>(dx);
     uy += static_cast<float>(dy);
     if (std::abs(dx) < 1e-3 && std::abs(dy) < 1e-3) break;
@@ -141,6 +151,7 @@ bool MotionEstimator::track_level(const Frame& now, const Frame& before, int k, 
 
 void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* temporal) noexcept {
   out = MotionResult{};
+  out.frame = ++frames_seen_;
   const int next = 1 - current_;
   Frame& now = frames_[static_cast<std::size_t>(next)];
   const Frame& before = frames_[static_cast<std::size_t>(current_)];
@@ -150,6 +161,8 @@ void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* t
   have_previous_ = true;
   if (!had_previous) {
     if (temporal != nullptr) std::fill(temporal, temporal + now.smooth.size(), 0.0f);
+    have_key_ = false;
+    track_key(now, out, out);
     return;
   }
   out.fixation_changed = now.fixation.x != before.fixation.x || now.fixation.y != before.fixation.y;
@@ -157,28 +170,74 @@ void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* t
     for (std::size_t i = 0; i < now.smooth.size(); ++i)
       temporal[i] = now.smooth[i] - before.smooth[i];
   }
-  if (out.fixation_changed) return;
-  bool have_estimate = false;
-  float estimate_x = 0.0f;
-  float estimate_y = 0.0f;
-  for (int k = levels_ - 1; k >= 0; --k) {
+  if (!out.fixation_changed) {
+    out.valid = track(now, before, levels_ - 1, 0.0f, 0.0f, out.flow_x_px, out.flow_y_px, out.level,
+                      &out.per_level);
+  }
+  track_key(now, out, out);
+}
+
+void MotionEstimator::track_key(const Frame& now, const MotionResult& frame_to_frame,
+                                MotionResult& out) noexcept {
+  bool renew = !have_key_ || now.fixation.x != key_.fixation.x ||
+               now.fixation.y != key_.fixation.y || !frame_to_frame.valid;
+  if (!renew) {
+    // From where the key's content was in the previous frame, moved by this frame's flow.
+    // That guess is good to the frame's error: only the finest levels refine it (a coarse
+    // level's window is dominated by the surround, whose motion differs from the fovea's).
+    const float initial_x = key_to_previous_x_ + frame_to_frame.flow_x_px;
+    const float initial_y = key_to_previous_y_ + frame_to_frame.flow_y_px;
+    int level = -1;
+    out.key_valid = track(now, key_, std::min(1, levels_ - 1), initial_x, initial_y,
+                          out.key_flow_x_px, out.key_flow_y_px, level, nullptr);
+    out.key_frame = key_frame_;
+    ++key_age_frames_;
+    renew = !out.key_valid || key_age_frames_ >= config_.rekey_frames ||
+            std::hypot(out.key_flow_x_px, out.key_flow_y_px) > config_.rekey_shift_px;
+    key_to_previous_x_ = out.key_flow_x_px;
+    key_to_previous_y_ = out.key_flow_y_px;
+  }
+  if (renew) {
+    // Same sizes: the copies reuse key_'s storage.
+    key_.smooth = now.smooth;
+    key_.grad_x = now.grad_x;
+    key_.grad_y = now.grad_y;
+    key_.scale = now.scale;
+    key_.fixation = now.fixation;
+    have_key_ = true;
+    key_frame_ = out.frame;
+    key_age_frames_ = 0;
+    key_to_previous_x_ = 0.0f;
+    key_to_previous_y_ = 0.0f;
+  }
+}
+
+bool MotionEstimator::track(const Frame& now, const Frame& reference, int from_level,
+                            float initial_x, float initial_y, float& flow_x, float& flow_y,
+                            int& finest_level,
+                            std::array<LevelMotion, Retina::kMaxLevels>* levels) const noexcept {
+  bool valid = false;
+  float estimate_x = initial_x;
+  float estimate_y = initial_y;
+  for (int k = from_level; k >= 0; --k) {
     const int scale = now.scale[static_cast<std::size_t>(k)];
-    if (before.scale[static_cast<std::size_t>(k)] != scale) continue;
-    float ux = have_estimate ? estimate_x / static_cast<float>(scale) : 0.0f;
-    float uy = have_estimate ? estimate_y / static_cast<float>(scale) : 0.0f;
-    LevelMotion& level = out.per_level[static_cast<std::size_t>(k)];
-    level.valid = track_level(now, before, k, ux, uy, level);
+    if (reference.scale[static_cast<std::size_t>(k)] != scale) continue;
+    float ux = estimate_x / static_cast<float>(scale);
+    float uy = estimate_y / static_cast<float>(scale);
+    LevelMotion scratch;
+    LevelMotion& level = levels != nullptr ? (*levels)[static_cast<std::size_t>(k)] : scratch;
+    level.valid = track_level(now, reference, k, ux, uy, level);
     if (!level.valid) continue;
     level.flow_x_px = ux * static_cast<float>(scale);
     level.flow_y_px = uy * static_cast<float>(scale);
-    have_estimate = true;
     estimate_x = level.flow_x_px;
     estimate_y = level.flow_y_px;
-    out.valid = true;
-    out.flow_x_px = estimate_x;
-    out.flow_y_px = estimate_y;
-    out.level = k;
+    valid = true;
+    flow_x = estimate_x;
+    flow_y = estimate_y;
+    finest_level = k;
   }
+  return valid;
 }
 
 }  // namespace cambio::perception

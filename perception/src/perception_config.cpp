@@ -166,6 +166,10 @@ SsmConfig read_ssm_config(config::MapReader& root) {
         reader->integer_or("iterations", m.iterations, config::Range::closed(1, 50)));
     m.min_eigenvalue =
         reader->number_or("min_eigenvalue", m.min_eigenvalue, config::Range::non_negative());
+    m.rekey_shift_px =
+        reader->number_or("rekey_shift_px", m.rekey_shift_px, config::Range::closed(0.5, 64.0));
+    m.rekey_frames = static_cast<int>(
+        reader->integer_or("rekey_frames", m.rekey_frames, config::Range::closed(1, 1000)));
     reader->finish();
   }
 

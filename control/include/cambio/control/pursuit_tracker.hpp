@@ -14,8 +14,9 @@ namespace cambio::control {
 /// the dominant eye's fovea (its first consumer).
 ///
 /// The target starts on the dominant eye's optical axis. Each new SSM frame moves its image
-/// position by the measured flow (the fovea's content moved by flow px from the previous frame
-/// to this one: S_now(p) = S_before(p - flow)); the position, seen from the camera's believed
+/// position by the measured displacement since the estimator's key frame, once the tracker knows
+/// where the target was in that key (else by the flow since the previous frame:
+/// S_now(p) = S_before(p - flow)); the position, seen from the camera's believed
 /// orientation when the frame was exposed, gives the target's direction in the base frame, and
 /// successive directions its angular velocity (low-pass filtered). A frame without a motion
 /// estimate (first frame, retina moved, untextured fovea) extrapolates with that velocity.
@@ -61,6 +62,13 @@ class PursuitTracker {
   Eigen::Vector3d direction_W_ = Eigen::Vector3d::UnitX();
   Eigen::Matrix3d R_WC_ = Eigen::Matrix3d::Identity();
   Eigen::Vector3d angular_velocity_W_ = Eigen::Vector3d::Zero();
+  /// The target's normalised image position in the motion estimator's key frame, once the
+  /// tracker has seen that frame: positions then come from the displacement since the key (no
+  /// drift from summing per-frame flows).
+  bool have_key_ = false;
+  std::uint64_t key_frame_ = 0;
+  Eigen::Vector2d key_xy_ = Eigen::Vector2d::Zero();
+  std::uint64_t last_frame_ = 0;
   std::uint64_t measured_frames_ = 0;
   std::uint64_t extrapolated_frames_ = 0;
 };

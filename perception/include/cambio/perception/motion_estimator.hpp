@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "cambio/perception/convolution.hpp"
@@ -27,6 +28,14 @@ struct MotionResult {
   float flow_y_px = 0.0f;
   int level = -1;
   std::array<LevelMotion, Retina::kMaxLevels> per_level{};
+  /// The displacement of the content since the key frame (a frame held for several frames):
+  /// S_now(p) = S_key(p - key_flow). Summing per-frame flows sums their errors; a tracker that
+  /// places its target by key_flow drifts only by one estimate's error per key.
+  bool key_valid = false;
+  float key_flow_x_px = 0.0f;
+  float key_flow_y_px = 0.0f;
+  std::uint64_t frame = 0;      ///< This frame's number (frames the estimator has consumed).
+  std::uint64_t key_frame = 0;  ///< The number of the frame key_flow is measured from.
 };
 
 /// Per level: the temporal derivative of the Gaussian-smoothed level (current minus previous)
@@ -56,9 +65,20 @@ class MotionEstimator {
     PixelPoint fixation;
   };
   void filter(const Retina& retina, Frame& frame) noexcept;
+  /// Coarse to fine from `from_level` and `initial` (level-0 px): `now` against `reference`;
+  /// fills `levels`
+  /// (may be null) and returns whether a level gave an estimate, in flow_x/flow_y.
+  bool track(const Frame& now, const Frame& reference, int from_level, float initial_x,
+             float initial_y, float& flow_x, float& flow_y, int& finest_level,
+             std::array<LevelMotion, Retina::kMaxLevels>* levels) const noexcept;
+  /// The displacement since the key frame, then whether `now` becomes the next key.
+  void track_key(const Frame& now, const MotionResult& frame_to_frame, MotionResult& out) noexcept;
   bool track_level(const Frame& now, const Frame& before, int k, float& ux, float& uy,
                    LevelMotion& result) const noexcept;
 
+  /// The prior's weight against the structure tensor's larger eigenvalue: a direction with less
+  /// than about this fraction of the other's structure is treated as unobserved.
+  static constexpr double kAperturePrior = 0.05;
   MotionConfig config_;
   int levels_ = 0;
   int width_ = 0;
@@ -69,6 +89,13 @@ class MotionEstimator {
   std::array<Frame, 2> frames_;
   int current_ = 0;
   bool have_previous_ = false;
+  Frame key_;
+  bool have_key_ = false;
+  std::uint64_t frames_seen_ = 0;
+  std::uint64_t key_frame_ = 0;
+  int key_age_frames_ = 0;
+  float key_to_previous_x_ = 0.0f;  ///< key_flow of the previous frame.
+  float key_to_previous_y_ = 0.0f;
   std::vector<float> rows_smooth_;  ///< Row-pass scratch, width x (height + 2 half_width).
   std::vector<float> rows_derivative_;
   /// Per iteration of track_level: the bilinear cell and weight of every column (x - ux) and

@@ -76,6 +76,10 @@ struct MotionConfig {
   double sigma_px = 1.4;
   int iterations = 4;
   double min_eigenvalue = 1e-3;  ///< Smallest structure-tensor eigenvalue (per pixel) to trust.
+  /// The key frame (what the displacement since a held frame is measured from) is renewed when
+  /// its content has moved more than this (level-0 px) or is this many frames old.
+  double rekey_shift_px = 6.0;
+  int rekey_frames = 15;
 };
 
 /// Statistical moments of a map (default: the retina intensity), per level.

@@ -177,6 +177,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         mode_ = Mode::kFixate;
         vergence_rad_ = saccade_end_vergence_rad_;
         verged_ = false;
+        anchored_ = false;
         pending_jump_rad_ = 0.0;
         weak_pending_ = false;
         vergence_blind_until_ns_ = now_ns;
@@ -216,6 +217,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   command_ = command;
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
+  anchored_ = false;
   pending_jump_rad_ = 0.0;
   weak_pending_ = false;
   ++status_.commands_applied;
@@ -392,6 +394,19 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   }
   // The angle the verging eye must still turn (sign as applied to its pan).
   const double error_rad = vergence_controller_.angular_error_rad(d_px);
+  // The vergence this measurement asks for (as the steps below apply it).
+  const double asked_rad = vergence_rad_ + (verging_ == hal::Eye::kRight ? error_rad : -error_rad);
+  if (anchored_ && std::abs(asked_rad - anchor_rad_) <= kAnchorAgreementRad &&
+      std::abs(vergence_rad_ - anchor_rad_) > kVergenceJumpRad) {
+    // The surface the eyes were verged on is seen again (whatever had drawn the verging eye off
+    // has gone): go back to it at once rather than converge on it again.
+    vergence_rad_ = anchor_rad_;
+    verged_ = true;
+    pending_jump_rad_ = 0.0;
+    weak_pending_ = false;
+    ++anchor_returns_;
+    return;
+  }
   if (confidence < params_.vergence.min_confidence) {
     // A weak measurement is believed when the next one agrees with it, as it stands or less what
     // the eye has turned since (the frame may predate the turn): two frames' noise rarely agrees
@@ -411,6 +426,14 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   // (same direction, within a factor of two): an object crossing the line of sight, seen by the
   // SSM a frame or two late, must not drag the eyes off a target they still see.
   if (verged_) {
+    if (anchored_ && std::abs(asked_rad - anchor_rad_) > kVergenceJumpRad &&
+        dominant_fovea_steady(summary)) {
+      // The fixated surface is still where the dominant eye looks, so its depth has not jumped:
+      // the verging eye sees something in front of it (or a false match). Keep the vergence.
+      ++occlusion_rejections_;
+      pending_jump_rad_ = 0.0;
+      return;
+    }
     if (std::abs(error_rad) > kVergenceJumpRad) {
       const bool confirms = std::abs(pending_jump_rad_) > kVergenceJumpRad &&
                             error_rad * pending_jump_rad_ > 0.0 &&
@@ -429,8 +452,21 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
                                  params_.vergence.max_step_rad);
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
+  if (std::abs(error_rad) < kVergedRad) {
+    // Verged: this is the fixated surface's vergence, followed while it moves smoothly.
+    anchor_rad_ = vergence_rad_;
+    anchored_ = true;
+  }
   applied_since_weak_rad_ += step;
   ++corrections_;
+}
+
+bool GazeLoop::dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept {
+  const perception::MotionResult& motion = summary.motion[static_cast<std::size_t>(dominant_)];
+  if (!motion.valid || motion.level != 0) return false;
+  const perception::LevelMotion& fovea = motion.per_level[0];
+  return std::hypot(motion.flow_x_px, motion.flow_y_px) < kSteadyFlowPx &&
+         fovea.residual_rms < kSteadyResidualGrey;
 }
 
 void GazeLoop::clamp_vergence() noexcept {
@@ -539,7 +575,9 @@ void GazeLoop::request_features() noexcept {
   request_.fixation_set = false;  // Both retinas on their image centres: the eyes' axes.
   request_.features.maps = perception::kAllMaps | extra_features_.maps;
   request_.features.disparity = true;
-  request_.features.motion = mode_ == Mode::kPursue || extra_features_.motion;
+  // Motion always: pursuit follows it, and vergence tells an occlusion of the verging eye from
+  // a change of the fixated surface by whether the dominant fovea moved.
+  request_.features.motion = true;
   request_.features.moments = extra_features_.moments;
   ssm_requests_.write(request_);
 }

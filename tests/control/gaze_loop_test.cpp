@@ -167,6 +167,9 @@ class GazeHarness {
     EXPECT_TRUE(requests_.read(r));
     return r;
   }
+  /// Whether the frames say the dominant fovea's content is unchanged (motion found at the
+  /// finest level with a small residual), as when nothing crosses the dominant eye's view.
+  void set_steady_fovea(bool steady) { steady_fovea_ = steady; }
   const GazeLoop& loop() const { return *loop_; }
   GazeLoop& loop() { return *loop_; }
   const hal::HardwareInfo& hardware() const { return hardware_; }
@@ -222,6 +225,12 @@ class GazeHarness {
     const Eigen::Vector2d now_px = project_px(dominant, object_W);
     auto& motion = summary.motion[static_cast<std::size_t>(dominant)];
     motion.valid = have_previous_frame_;
+    if (steady_fovea_) {
+      // The finest level tracked, the previous frame warped onto this one to noise.
+      motion.level = 0;
+      motion.per_level[0].valid = true;
+      motion.per_level[0].residual_rms = 0.5f;
+    }
     motion.flow_x_px = static_cast<float>(now_px.x() - previous_object_px_.x());
     motion.flow_y_px = static_cast<float>(now_px.y() - previous_object_px_.y());
     previous_object_px_ = now_px;
@@ -249,6 +258,7 @@ class GazeHarness {
   std::int64_t now_ns_ = 1'000'000'000;
   Eigen::Vector2d previous_object_px_ = Eigen::Vector2d::Zero();
   bool have_previous_frame_ = false;
+  bool steady_fovea_ = false;
 };
 
 // Eye height in the shipped rig: neck 1.20 + 0.10 + 0.10 m; pan axes at x = 0.04 m.
@@ -338,6 +348,31 @@ TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
   // The target's depth really changed: the second measurement confirms the first.
   for (int i = 0; i < 2 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
   EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
+}
+
+TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAnchorIsReturnedTo) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.build();
+  head.set_steady_fovea(true);
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  const double verged = head.status().vergence_rad;
+  // Something crosses the verging eye's view only, for ten frames: the dominant eye still sees
+  // the same surface, so its depth has not jumped, however many frames agree on 40 px.
+  for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed an occluder";
+  EXPECT_GE(head.loop().occlusion_rejections(), 9U);
+  // The dominant fovea changes too (it may be a new surface): the jump is followed, as before.
+  head.set_steady_fovea(false);
+  for (int i = 0; i < 3 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
+  // The anchored surface is measured again: back to its vergence in one frame, not converged
+  // on anew.
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4);
+  EXPECT_EQ(head.loop().anchor_returns(), 1U);
 }
 
 TEST(GazeLoop, SaccadeStaysWithinTheJointLimitsAndKeepsVergenceUntilItStops) {
@@ -563,7 +598,7 @@ TEST(GazeLoop, ExtraFeatureRequestsAreAddedToWhatTheGazeNeeds) {
   head.build();
   head.command(GazeAction::kHold);
   head.step();
-  EXPECT_FALSE(head.request().features.motion);
+  EXPECT_TRUE(head.request().features.motion) << "vergence tells occlusions by the motion";
   EXPECT_FALSE(head.request().features.moments);
   perception::FeatureRequest extra{.maps = 0, .disparity = false, .motion = true, .moments = true};
   head.extra_features().write(extra);

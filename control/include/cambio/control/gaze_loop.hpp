@@ -103,6 +103,12 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t measurements() const { return measurements_; }
   /// Large disparity jumps held back, once verged, until a second measurement confirmed them.
   std::uint64_t held_jumps() const { return held_jumps_; }
+  /// Large disparity jumps rejected, once verged, because the dominant eye's fovea still showed
+  /// the same surface: something passed between the verging eye and the target.
+  std::uint64_t occlusion_rejections() const { return occlusion_rejections_; }
+  /// Returns to the anchored vergence (the last one verged on the current target) when a
+  /// measurement asked for it again after the verging eye had been drawn off.
+  std::uint64_t anchor_returns() const { return anchor_returns_; }
 
   /// Once the vergence error has been below kVergedRad, an error above kVergenceJumpRad needs a
   /// second measurement to confirm it (see verge()).
@@ -114,6 +120,12 @@ class GazeLoop final : public hal::Loop {
   static constexpr double kMinTargetDistance_m = 0.01;
   /// Two weak measurements agree within this (plus a tenth of the error): about 2 px at 554 px.
   static constexpr double kWeakAgreementRad = 0.2 * std::numbers::pi / 180.0;
+  /// The dominant fovea shows the same surface as a frame ago when it moved less than this and
+  /// the previous frame, moved, matches it to this rms (grey levels: a few times sensor noise).
+  static constexpr double kSteadyFlowPx = 1.0;
+  /// A measurement asks for the anchored vergence when within this of it (about 3 px).
+  static constexpr double kAnchorAgreementRad = 0.3 * std::numbers::pi / 180.0;
+  static constexpr double kSteadyResidualGrey = 3.0;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
@@ -123,6 +135,9 @@ class GazeLoop final : public hal::Loop {
   };
 
   void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
+  /// Whether the dominant eye's fovea shows the surface it showed a frame ago (its motion
+  /// estimate: small flow, small residual at the finest level).
+  bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
   bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
   /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
   /// not the head's or a position that is not finite.
@@ -202,6 +217,11 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t corrections_ = 0;
   std::uint64_t measurements_ = 0;
   std::uint64_t held_jumps_ = 0;
+  std::uint64_t occlusion_rejections_ = 0;
+  std::uint64_t anchor_returns_ = 0;
+  // The vergence last verged on the current target (since the last command or saccade).
+  bool anchored_ = false;
+  double anchor_rad_ = 0.0;
   bool verged_ = false;            // The vergence error has been small since the last command.
   double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
   // A measurement below min_confidence (but above a third of it) waiting for the next to agree;

@@ -50,6 +50,9 @@ void MainJob::collect(MainJobResult& result) {
     result.gaze_rejected_commands = gaze_loop_->rejected_commands();
     result.gaze_corrections = gaze_loop_->corrections();
     result.gaze_measurements = gaze_loop_->measurements();
+    result.gaze_held_jumps = gaze_loop_->held_jumps();
+    result.gaze_occlusion_rejections = gaze_loop_->occlusion_rejections();
+    result.gaze_anchor_returns = gaze_loop_->anchor_returns();
     if (script_) {
       result.script_start_ns = script_->start_ns();
       for (const std::int64_t sent_ns : script_->sent_ns()) {

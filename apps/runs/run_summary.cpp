@@ -33,6 +33,13 @@ Json gaze_json(const MainJobResult& result) {
           {"last_refusal", std::string(control::to_string(gaze.last_refusal))},
           {"disparity_measurements", result.gaze_measurements},
           {"vergence_corrections", result.gaze_corrections},
+          // Measurements not followed, by why: a sudden depth jump awaiting a second reading; a
+          // jump while the dominant fovea held still (something in front of the verging eye);
+          // and returns to the vergence last verged on when it was measured again.
+          {"vergence_rejected",
+           {{"jump_awaiting_confirmation", result.gaze_held_jumps},
+            {"occlusion_of_the_verging_eye", result.gaze_occlusion_rejections}}},
+          {"vergence_anchor_returns", result.gaze_anchor_returns},
           {"final_action", gaze_action_name(gaze.action)},
           {"final_vergence_rad", gaze.vergence_rad}};
 }

@@ -1,12 +1,9 @@
 // `cambio console EXPERIMENT.yaml`: the paper's standard-input commands, with the experiment's
 // loops running in the background (console_session.hpp carries out each line). The run is in
 // runs/console_run.hpp.
-#include <cmath>
-#include <cstdlib>
 #include <iostream>
 
 #include "argument_parser.hpp"
-#include "cambio/config/echoed_text.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "console_run.hpp"
@@ -14,22 +11,6 @@
 namespace cambio::app {
 
 namespace {
-
-/// --rtf into `real_time_factor` (1 without it); false (the reason printed) when it is no
-/// factor >= 0.
-bool real_time_factor_or_report(const ArgumentParser& parser, double& real_time_factor) {
-  real_time_factor = 1.0;
-  if (!parser.has("rtf")) return true;
-  const std::string& text = parser.value("rtf");
-  char* end = nullptr;
-  real_time_factor = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(real_time_factor) || real_time_factor < 0.0) {
-    std::cerr << "cambio console: --rtf: expected a factor >= 0, found " << config::in_quotes(text)
-              << "\n";
-    return false;
-  }
-  return true;
-}
 
 /// The experiment with the --set overrides into `experiment`; false (the issues printed) when it
 /// is invalid.
@@ -55,8 +36,10 @@ int run_console_command(std::span<const std::string> args) {
               "simulated seconds per wall second on the lockstep executor (default 1; 0: as "
               "fast as the loops go)");
   if (!parser.parse(args)) return kExitOk;
-  double real_time_factor = 1.0;
-  if (!real_time_factor_or_report(parser, real_time_factor)) return kExitBadInput;
+  // The parser's number rules, as every other numeric option: decimal text only (no "0x1p3",
+  // no leading blank).
+  const double real_time_factor =
+      parser.number("rtf", 1.0, config::Range::non_negative(), "simulated seconds per wall second");
   config::ExperimentConfig experiment;
   if (!load_experiment_or_report(parser, experiment)) return kExitBadInput;
 

@@ -149,7 +149,20 @@ class Parser {
     next_ = 1;
     if (name == "help") {
       Help help;
-      if (more()) help.topic = words_[next_++];
+      if (more()) {
+        help.topic = words_[next_++];
+        // A topic that names no command is refused like any bad line, never answered by silence.
+        if (detail::find_syntax(help.topic) == nullptr) {
+          std::string known;
+          for (const auto& command : detail::command_names()) known += " " + command;
+          std::string near;
+          if (const auto closest = config::closest_name(help.topic, detail::command_names())) {
+            near = "; did you mean " + config::in_quotes(*closest) + "?";
+          }
+          fail("a command to describe, found " + config::in_quotes(help.topic) + near +
+               " (commands:" + known + ")");
+        }
+      }
       return help;
     }
     if (name == "quit") return Quit{};

@@ -94,8 +94,10 @@ ConsoleSession::Next ConsoleSession::carry_out(const console::Command& command,
       [&](const auto& c) {
         using T = std::decay_t<decltype(c)>;
         if constexpr (std::is_same_v<T, Help>) {
+          // The parser has checked that a topic names a command.
           for (const std::string& text : help_lines()) {
-            if (c.topic.empty() || text.rfind(c.topic + " ", 0) == 0 || text.rfind(c.topic, 0) == 0)
+            if (c.topic.empty() || text.rfind(c.topic + " ", 0) == 0 || text == c.topic ||
+                text.rfind(c.topic + "\n", 0) == 0)
               out_ << text << "\n";
           }
         } else if constexpr (std::is_same_v<T, Quit>) {

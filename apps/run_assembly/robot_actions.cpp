@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
+#include "cambio/config/command_target_bounds.hpp"
 #include "robot_action_text.hpp"
 
 // RobotActions' construction, its gaze actions and feature requests, and the sending every
@@ -59,11 +59,13 @@ behaviour::ActionResult RobotActions::send(control::ArmCommand command) {
 
 behaviour::ActionResult RobotActions::pixel_command(control::GazeAction action, double u_px,
                                                     double v_px) {
-  if (!std::isfinite(u_px) || !std::isfinite(v_px) || u_px < 0.0 || v_px < 0.0 ||
-      u_px > image_width_px_ || v_px > image_height_px_) {
+  // The experiment loader's rule (config/command_target_bounds.hpp), so a pixel means the same
+  // typed at the console as written in a file.
+  if (!config::pixel_on_image(u_px, v_px, image_width_px_, image_height_px_)) {
     std::ostringstream why;
     why << "pixel (" << u_px << ", " << v_px << ") is outside the dominant eye's "
-        << image_width_px_ << "x" << image_height_px_ << " image";
+        << image_width_px_ << "x" << image_height_px_ << " image (u in [0, " << image_width_px_ - 1
+        << "], v in [0, " << image_height_px_ - 1 << "])";
     return refused(why.str());
   }
   control::GazeCommand command;
@@ -76,6 +78,11 @@ behaviour::ActionResult RobotActions::pixel_command(control::GazeAction action, 
 behaviour::ActionResult RobotActions::point_command(control::GazeAction action,
                                                     const Eigen::Vector3d& p_W_m) {
   if (!p_W_m.allFinite()) return refused("the point " + point_text(p_W_m) + " is not finite");
+  if (p_W_m.cwiseAbs().maxCoeff() > config::kMaxTargetCoordinate_m) {
+    return refused("the point " + point_text(p_W_m) +
+                   " is not one the eyes can fixate: every coordinate within a kilometre of the "
+                   "robot");
+  }
   control::GazeCommand command;
   command.action = action;
   command.target.kind = control::GazeTargetKind::kPoint;
@@ -100,12 +107,11 @@ behaviour::ActionResult RobotActions::saccade_to_point(const Eigen::Vector3d& p_
 }
 
 behaviour::ActionResult RobotActions::saccade_by_angles(double pan_rad, double tilt_rad) {
-  // A gaze displacement of 90 degrees or more has no image-plane direction.
-  constexpr double kLargest = 0.5 * std::numbers::pi - 1e-3;
-  if (!std::isfinite(pan_rad) || !std::isfinite(tilt_rad) || std::abs(pan_rad) >= kLargest ||
-      std::abs(tilt_rad) >= kLargest) {
+  constexpr double kLargest = config::kMaxGazeDisplacementRad;
+  if (!std::isfinite(pan_rad) || !std::isfinite(tilt_rad) || std::abs(pan_rad) > kLargest ||
+      std::abs(tilt_rad) > kLargest) {
     return refused("angles (" + degrees(pan_rad) + ", " + degrees(tilt_rad) +
-                   ") must be finite and within +-90 deg of the gaze");
+                   ") must be finite and less than a quarter turn from the gaze");
   }
   control::GazeCommand command;
   command.action = control::GazeAction::kSaccade;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cambio/config/command_target_bounds.hpp"
 #include "cambio/config/echoed_text.hpp"
 #include "cambio/config/map_reader.hpp"
 #include "robot_action_text.hpp"
@@ -29,6 +30,10 @@ behaviour::ActionResult RobotActions::reach_fixated(control::ArmSide arm) {
 behaviour::ActionResult RobotActions::reach_point(const Eigen::Vector3d& p_W_m,
                                                   control::ArmSide arm) {
   if (!p_W_m.allFinite()) return refused("the point " + point_text(p_W_m) + " is not finite");
+  if (p_W_m.cwiseAbs().maxCoeff() > config::kMaxTargetCoordinate_m) {
+    return refused("the point " + point_text(p_W_m) +
+                   " is beyond any arm: every coordinate within a kilometre of the robot");
+  }
   control::ArmCommand command;
   command.action = control::ArmAction::kReach;
   command.arm = arm;

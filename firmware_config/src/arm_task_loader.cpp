@@ -1,6 +1,7 @@
 // The arms in an experiment file: `arm:` and the arm entries of `commands:`.
 #include <string>
 
+#include "cambio/config/command_target_bounds.hpp"
 #include "experiment_sections.hpp"
 
 namespace cambio::config {
@@ -31,7 +32,9 @@ ArmCommandConfig read_arm_command(MapReader& entry, std::string_view key) {
     command.action = ArmActionConfig::kReach;
     if (entry.is_list("reach")) {
       command.to_fixation = false;
-      command.point_W_m = entry.vector3("reach");
+      command.point_W_m =
+          entry.vector3("reach", Range::closed(-kMaxTargetCoordinate_m, kMaxTargetCoordinate_m)
+                                     .because("a point within a kilometre of the robot"));
     } else {
       entry.choice("reach", {"fixation"});
     }

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "cambio/config/command_target_bounds.hpp"
 #include "experiment_sections.hpp"
 #include "format.hpp"
 
@@ -92,10 +93,8 @@ GazeTargetConfig read_target(MapReader& action, std::string_view action_key, boo
     }
   } else if (key == "point_m") {
     target.kind = GazeTargetKind::kPoint;
-    // 1e300 is finite: a point is also within reach of meaning (a kilometre; beyond it every
-    // direction is the same for a head with a 12 cm baseline).
     target.point_W_m = action.vector3(
-        "point_m", Range::closed(-1000.0, 1000.0)
+        "point_m", Range::closed(-kMaxTargetCoordinate_m, kMaxTargetCoordinate_m)
                        .because("a point the eyes can fixate, within a kilometre of the robot"));
   } else if (key == "pixel") {
     if (const auto pixel = read_pair(action, "pixel", "[u, v] in pixels", Range::non_negative())) {
@@ -106,9 +105,12 @@ GazeTargetConfig read_target(MapReader& action, std::string_view action_key, boo
   } else {
     const bool degrees = key == "angles_deg";
     const double scale = degrees ? kPi / 180.0 : 1.0;
-    const Range half_turn = Range::closed(-kPi / scale, kPi / scale)
-                                .because("a displacement of the gaze, at most half a turn");
-    if (const auto angles = read_pair(action, key, "[pan, tilt]", half_turn)) {
+    // At a quarter turn the image plane has no direction for the displacement (and beyond it
+    // the gaze loop's tan would turn it back).
+    const Range below_quarter_turn =
+        Range::closed(-kMaxGazeDisplacementRad / scale, kMaxGazeDisplacementRad / scale)
+            .because("a displacement of the gaze, less than a quarter turn");
+    if (const auto angles = read_pair(action, key, "[pan, tilt]", below_quarter_turn)) {
       target.kind = GazeTargetKind::kAngles;
       // Multiply before dividing, as MapReader does, so that whole degrees give the closed form.
       target.angles_rad =

@@ -198,5 +198,17 @@ TEST(BadInputTest, EndlessLinesAndFaultFilesThatAreNoFilesAreRefused) {
   });
 }
 
+// --rtf took strtod's whole language ("0x1p3" ran at 8x, " 2" at 2x) where every other number
+// option takes decimal text only.
+TEST(BadInputTest, TheRealTimeFactorIsADecimalNumberAsEveryOtherOption) {
+  const std::string console = "console firmware_config/experiments/vergence_sphere.yaml --rtf ";
+  expect_bad_input({
+      {console + "0x1p3 < /dev/null", "option '--rtf' expects a number"},
+      {console + "' 2' < /dev/null", "option '--rtf' expects a number"},
+      {console + "-1 < /dev/null", "option '--rtf' expects a number"},
+      {console + "nan < /dev/null", "option '--rtf' expects a number"},
+  });
+}
+
 }  // namespace
 }  // namespace cambio

@@ -73,6 +73,15 @@ TEST(ConsoleCommand, EveryCommandParses) {
   EXPECT_EQ(release.arm, Arm::kRight);
 }
 
+TEST(ConsoleCommand, HelpOnSomethingThatIsNoCommandIsRefusedNotAnsweredBySilence) {
+  const std::string message = error("help zzz");
+  EXPECT_NE(message.find("a command to describe, found \"zzz\""), std::string::npos) << message;
+  EXPECT_NE(message.find("saccade"), std::string::npos) << message;  // The commands are listed.
+  EXPECT_NE(error("help sacade").find("did you mean \"saccade\"?"), std::string::npos);
+  // A prefix is no topic: "re" would have matched reach and release.
+  EXPECT_FALSE(error("help re").empty());
+}
+
 TEST(ConsoleCommand, AnUnknownCommandSuggestsTheNearest) {
   EXPECT_EQ(error("sacade point 1 0 1"), "unknown command \"sacade\"; did you mean \"saccade\"?");
   EXPECT_EQ(error("fly"), "unknown command \"fly\"; type help for the commands");

@@ -116,6 +116,9 @@ TEST_F(ConsoleTest, BadLinesAreRefusedWithWhatWasExpectedAndTheRunGoesOn) {
   const CommandResult r = console(
       "fly to the moon\n"
       "saccade pixel 5000 10\n"
+      "saccade pixel 640 480\n"
+      "saccade point 1e300 1e300 1e300\n"
+      "help zzz\n"
       "look object unicorn\n"
       "move elbow 10deg\n"
       "wait soon\n"
@@ -137,7 +140,17 @@ TEST_F(ConsoleTest, BadLinesAreRefusedWithWhatWasExpectedAndTheRunGoesOn) {
       << r.output;
   EXPECT_NE(r.output.find("gaze: pursue"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("gaze: hold"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("(5 lines refused)"), std::string::npos) << r.output;
+  // The experiment loader's bounds, refused at the line, before anything reaches the gaze loop.
+  EXPECT_NE(r.output.find("refused: pixel (640, 480) is outside"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("refused: the point (1e+300, 1e+300, 1e+300) m is not one the eyes "
+                          "can fixate"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("refused by the gaze loop"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("error: help: expected a command to describe, found \"zzz\""),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("(8 lines refused)"), std::string::npos) << r.output;
   // Two waits, and one control cycle after each of the three commands sent.
   EXPECT_NE(r.output.find("ran 0.715 s"), std::string::npos) << r.output;
 }

@@ -91,6 +91,10 @@ TEST_F(RobotActionsTest, ArmActionsBecomeArmCommands) {
   EXPECT_EQ(arm().target, control::ReachTargetKind::kPoint);
   EXPECT_EQ(arm().arm, control::ArmSide::kRight);
   EXPECT_EQ(arm().point_W_m[2], 1.0);
+  const auto huge = actions.reach_point({1e300, 0, 1}, control::ArmSide::kRight);
+  EXPECT_FALSE(huge.sent);
+  EXPECT_NE(huge.message.find("within a kilometre"), std::string::npos) << huge.message;
+  EXPECT_EQ(arm().point_W_m[0], 0.5);  // Nothing was sent.
   EXPECT_TRUE(actions.grasp(control::ArmSide::kLeft).sent);
   EXPECT_EQ(arm().action, control::ArmAction::kGrasp);
   EXPECT_TRUE(actions.release(control::ArmSide::kNearest).sent);
@@ -124,15 +128,25 @@ TEST_F(RobotActionsTest, AJointMoveGoesToTheLoopThatOwnsItClampedToItsLimits) {
 TEST_F(RobotActionsTest, WhatCannotBeCarriedOutIsRefusedAndNothingIsSent) {
   RobotActions actions(hardware_, setup_, {&gaze_, nullptr, nullptr});
   EXPECT_EQ(actions.look_at_pixel(-1, 10).message,
-            "pixel (-1, 10) is outside the dominant eye's 640x480 image");
+            "pixel (-1, 10) is outside the dominant eye's 640x480 image (u in [0, 639], v in [0, "
+            "479])");
+  // The experiment loader's bounds: the image's last pixel is 639, not 640.
+  EXPECT_FALSE(actions.saccade_to_pixel(640, 480).sent);
   EXPECT_FALSE(actions.saccade_to_point({NAN, 0, 1}).sent);
+  // Finite but meaningless: refused here, not dropped later by the gaze loop.
+  EXPECT_EQ(actions.saccade_to_point({1e300, 1e300, 1e300}).message,
+            "the point (1e+300, 1e+300, 1e+300) m is not one the eyes can fixate: every "
+            "coordinate within a kilometre of the robot");
+  EXPECT_FALSE(actions.look_at_point({0, 0, -1001}).sent);
   EXPECT_FALSE(actions.saccade_by_angles(95 * kDeg, 0).sent);
+  EXPECT_FALSE(actions.saccade_by_angles(0, -90 * kDeg).sent);
   EXPECT_EQ(actions.reach_fixated(control::ArmSide::kNearest).message,
             "this run has no arm controller");
   EXPECT_EQ(actions.move_joint("left_wrist", 0.1).message, "this run has no arm controller");
   EXPECT_FALSE(actions.request_features({}).sent);
   EXPECT_EQ(actions.gaze_commands_sent(), 0U);
   EXPECT_EQ(gaze_.version(), 0U);
+  EXPECT_TRUE(actions.saccade_to_pixel(639, 479).sent);  // The image's last pixel is on it.
 }
 
 TEST_F(RobotActionsTest, FeatureRequestsGoToTheirChannel) {

@@ -330,6 +330,26 @@ TEST_F(GazeExperiment, APointFarBeyondTheRobotIsRefused) {
   EXPECT_NE(found[0].find("within a kilometre of the robot"), std::string::npos) << found[0];
 }
 
+TEST_F(GazeExperiment, AnglesOfAQuarterTurnOrMoreAreRefused) {
+  // At 90 deg the image plane has no direction for the gaze; beyond, tan turns the gaze back.
+  const auto found = issues(
+      "  commands:\n"
+      "    - {at_s: 0, saccade: {angles_deg: [100, 0]}}\n"
+      "    - {at_s: 1, saccade: {angles_deg: [0, -90]}}\n"
+      "    - {at_s: 2, saccade: {angles_deg: [89, -30]}}\n");
+  ASSERT_EQ(found.size(), 2u) << joined(found);
+  EXPECT_NE(found[0].find("experiment.commands[0].saccade.angles_deg"), std::string::npos);
+  EXPECT_NE(found[0].find("less than a quarter turn"), std::string::npos) << found[0];
+  EXPECT_NE(found[1].find("experiment.commands[1].saccade.angles_deg"), std::string::npos);
+}
+
+TEST_F(GazeExperiment, AReachFarBeyondTheRobotIsRefused) {
+  const auto found = issues("  commands: [{at_s: 0, reach: [0.5, 1e300, 1.0]}]\n");
+  ASSERT_FALSE(found.empty());
+  EXPECT_NE(found[0].find("experiment.commands[0].reach"), std::string::npos) << found[0];
+  EXPECT_NE(found[0].find("within a kilometre of the robot"), std::string::npos) << found[0];
+}
+
 TEST_F(GazeExperiment, FixateAndSaccadeNeedATarget) {
   const auto found = issues(
       "  commands:\n"

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include "cambio/canopen/can_bus_load.hpp"
+#include "cambio/canopen/drive_parameters.hpp"
 
 namespace cambio::canopen {
 
@@ -31,8 +33,9 @@ std::string bus_names(const CanRigInfo& can_rig) {
 
 /// The bus exists and its node ids are unique; for the master's groups, a bus of their own and a
 /// drive per joint in one command mode.
-void check_group(const hal::JointGroupInfo& group, const CanRigInfo& can_rig,
-                 std::string_view backend, std::map<std::string, std::map<int, std::string>>& nodes,
+void check_group(const hal::HardwareInfo& hardware, const hal::JointGroupInfo& group,
+                 const CanRigInfo& can_rig, std::string_view backend,
+                 std::map<std::string, std::map<int, std::string>>& nodes,
                  std::map<std::string, std::string>& master_of_bus,
                  std::vector<hal::SettingProblem>& problems) {
   const bool mastered = group.backend == backend;
@@ -79,6 +82,15 @@ void check_group(const hal::JointGroupInfo& group, const CanRigInfo& can_rig,
                               " (one PDO layout per group), found a different one"});
     }
     if (first_drive == nullptr) first_drive = drive;
+    if (const hal::JointInfo* joint = hardware.find_joint(joint_name); mastered && joint) {
+      try {
+        // The master's own check, so the rig is refused here and not after the run has begun.
+        check_drive_units(*joint, *drive);
+      } catch (const std::invalid_argument& error) {
+        problems.push_back({"joints." + joint_name + ".can.gear_ratio",
+                            std::string("expected units a drive can hold: ") + error.what()});
+      }
+    }
     const auto [owner, inserted] = nodes[can_group->bus].emplace(drive->node_id, joint_name);
     if (!inserted) {
       problems.push_back({"joints." + joint_name + ".can.node_id",
@@ -134,7 +146,7 @@ std::vector<hal::SettingProblem> check_can_rig(const hal::HardwareInfo& hardware
   std::map<std::string, std::map<int, std::string>> nodes;  // bus -> node id -> joint
   std::map<std::string, std::string> master_of_bus;         // bus -> the group producing SYNC
   for (const auto& group : hardware.groups) {
-    check_group(group, can_rig, backend, nodes, master_of_bus, problems);
+    check_group(hardware, group, can_rig, backend, nodes, master_of_bus, problems);
   }
   for (const auto& bus : can_rig.buses) check_load(hardware, can_rig, bus, backend, problems);
   return problems;

@@ -1,6 +1,8 @@
 #include "cambio/canopen/drive_parameters.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -10,10 +12,17 @@ namespace cambio::canopen {
 
 namespace {
 
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
 std::int64_t checked_counts(double counts, const std::string& what) {
   if (!std::isfinite(counts) || std::abs(counts) > 2147483647.0) {
-    throw std::invalid_argument(what + " is " + std::to_string(counts) +
-                                " counts, beyond what a drive's INTEGER32 holds");
+    throw std::invalid_argument(what + " is " + number(counts) +
+                                " counts, beyond what a drive's INTEGER32 holds (2147483647); "
+                                "check gear_ratio and encoder_counts_per_rev");
   }
   return std::llround(counts);
 }
@@ -43,16 +52,36 @@ InterpolationPeriod interpolation_period(double period_s) {
   return closest;
 }
 
-std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
-                                                const JointDriveInfo& drive,
-                                                const hal::JointGroupInfo& group,
-                                                const CanGroupSettings& settings, double rate_hz) {
+void check_drive_units(const hal::JointInfo& joint, const JointDriveInfo& drive) {
   const std::string name = "joint '" + joint.name + "'";
   if (drive.encoder_counts_per_rev <= 0 || !std::isfinite(drive.gear_ratio) ||
       drive.gear_ratio == 0.0) {
     throw std::invalid_argument(name + ": encoder_counts_per_rev must be > 0 and gear_ratio " +
                                 "finite and non-zero");
   }
+  const auto units = cia402::Units::from(drive.gear_ratio, drive.encoder_counts_per_rev);
+  const double counts_per_turn = std::abs(units.counts_per_rad) * 2.0 * std::numbers::pi;
+  if (!(counts_per_turn >= kMinCountsPerJointTurn)) {
+    throw std::invalid_argument(
+        name + ": gear_ratio " + number(drive.gear_ratio) + " x encoder_counts_per_rev " +
+        std::to_string(drive.encoder_counts_per_rev) + " is " + number(counts_per_turn) +
+        " counts per joint turn; expected at least " + number(kMinCountsPerJointTurn) +
+        " (a count of at most a degree)");
+  }
+  const hal::JointLimits& limits = joint.limits;
+  checked_counts(limits.min_position_rad * units.counts_per_rad, name + " min position");
+  checked_counts(limits.max_position_rad * units.counts_per_rad, name + " max position");
+  checked_counts(limits.max_velocity_rad_s * units.counts_per_rad, name + " max velocity");
+  checked_counts(drive.following_error_window_rad * units.counts_per_rad,
+                 name + " following error window");
+}
+
+std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
+                                                const JointDriveInfo& drive,
+                                                const hal::JointGroupInfo& group,
+                                                const CanGroupSettings& settings, double rate_hz) {
+  check_drive_units(joint, drive);
+  const std::string name = "joint '" + joint.name + "'";
   if (!(rate_hz > 0.0)) {
     throw std::invalid_argument("joint group '" + group.name + "': rate must be > 0 Hz");
   }

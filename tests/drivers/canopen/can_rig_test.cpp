@@ -353,6 +353,30 @@ TEST(CanCheck, DuplicateNodeIdsOnOneBus) {
       "expected a node id unique on bus can0, found 1 (already used by pan)");
 }
 
+// The rig loader takes any positive gear ratio; before, check-config passed 1e300 and the run
+// exited 3 at configure with a 300-digit count. The master's own units check runs in the rig's.
+TEST(CanCheck, UnitsWhoseCountsADriveCannotHoldAreRefusedAtTheGearRatio) {
+  auto lines = test::kSmallRigLines;
+  lines[24] = kSocketcanHead + "}";
+  const auto with_pan_can = [&](const std::string& can) {
+    auto patched = lines;
+    patched[12] = "    can: {" + can + "}";
+    return check_issues(test::join_lines(patched));
+  };
+  expect_single_issue(with_pan_can("node_id: 1, gear_ratio: 1e300, encoder_counts_per_rev: 4096"),
+                      13, 35, "joints.pan.can.gear_ratio",
+                      "counts, beyond what a drive's INTEGER32");
+  // 1e-300 turns every command into count 0; 2^63 - 1 counts per turn overflow too.
+  expect_single_issue(with_pan_can("node_id: 1, gear_ratio: 1e-300, encoder_counts_per_rev: 4096"),
+                      13, 35, "joints.pan.can.gear_ratio",
+                      "counts per joint turn; expected at least 360");
+  expect_single_issue(
+      with_pan_can("node_id: 1, gear_ratio: 1, encoder_counts_per_rev: 9223372036854775807"), 13,
+      35, "joints.pan.can.gear_ratio", "beyond what a drive's INTEGER32");
+  // The same units on a sim group are the virtual rig's business, not the master's.
+  EXPECT_TRUE(with_pan_can("node_id: 1, gear_ratio: 50, encoder_counts_per_rev: 4096").empty());
+}
+
 TEST(CanCheck, TwoSocketcanGroupsCannotShareABus) {
   auto lines = test::kSmallRigLines;
   lines[14] = "    group: tilt_group";

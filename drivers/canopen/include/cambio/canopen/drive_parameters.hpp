@@ -31,6 +31,17 @@ struct InterpolationPeriod {
 /// 1 us .. 255 s.
 InterpolationPeriod interpolation_period(double period_s);
 
+/// The fewest encoder counts per joint turn the master accepts: one count is at most a degree
+/// (below it, every command of a fine servo rounds to the same count).
+inline constexpr double kMinCountsPerJointTurn = 360.0;
+
+/// Throws std::invalid_argument naming the joint when `drive`'s units cannot represent `joint`:
+/// no encoder counts or gear ratio, a resolution coarser than kMinCountsPerJointTurn, or a
+/// position limit, the maximum velocity or the following error window beyond a drive's
+/// INTEGER32 counts. The rig's check runs it before anything is built; drive_parameter_writes()
+/// again before it writes.
+void check_drive_units(const hal::JointInfo& joint, const JointDriveInfo& drive);
+
 /// The writes for `joint`'s `drive` in `group` (its CANopen settings `settings`), whose SYNC runs
 /// at `rate_hz`. Throws std::invalid_argument naming the joint for values a drive cannot hold (a
 /// limit beyond INTEGER32 counts, a heartbeat period beyond 65535 ms).

@@ -54,7 +54,8 @@ std::vector<virtual_rig::FaultInjection> read_fault_file(const std::string& path
     try {
       faults.push_back(virtual_rig::parse_fault(line.substr(first, last - first + 1)));
     } catch (const std::invalid_argument& error) {
-      throw UsageError("virtual-rig: " + path + ":" + std::to_string(number) + ": " + error.what());
+      throw UsageError("virtual-rig: " + config::echoed(path) + ":" + std::to_string(number) +
+                       ": " + error.what());
     }
   }
   return faults;

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cambio/config/echoed_text.hpp"
 
 namespace cambio::virtual_rig {
 
@@ -20,8 +24,14 @@ constexpr std::array<std::pair<FaultKind, std::string_view>, 7> kKinds = {{
     {FaultKind::kSdoAbort, "sdo-abort"},
 }};
 
+// Every piece of the spec a message repeats goes through config::echoed: control characters
+// (a NUL would cut the message, an escape sequence act on the terminal) escaped, long text cut.
+std::string echo(std::string_view text) {
+  return config::echoed(text);
+}
+
 [[noreturn]] void fail(std::string_view spec, const std::string& why) {
-  throw std::invalid_argument("fault '" + std::string(spec) + "': " + why);
+  throw std::invalid_argument("fault '" + echo(spec) + "': " + why);
 }
 
 /// A whole number, decimal or 0x-hex, within [low, high].
@@ -37,11 +47,11 @@ std::int64_t whole(std::string_view spec, std::string_view key, std::string_view
   const auto [end, error] =
       std::from_chars(digits.data(), digits.data() + digits.size(), value, base);
   if (digits.empty() || error != std::errc() || end != digits.data() + digits.size()) {
-    fail(spec, std::string(key) + ": expected a whole number, found '" + std::string(text) + "'");
+    fail(spec, std::string(key) + ": expected a whole number, found '" + echo(text) + "'");
   }
   if (value < low || value > high) {
     fail(spec, std::string(key) + ": expected " + std::to_string(low) + " to " +
-                   std::to_string(high) + ", found " + std::string(text));
+                   std::to_string(high) + ", found " + echo(text));
   }
   return value;
 }
@@ -52,11 +62,11 @@ double real(std::string_view spec, std::string_view key, std::string_view text, 
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
       !std::isfinite(value)) {
-    fail(spec, std::string(key) + ": expected a number, found '" + std::string(text) + "'");
+    fail(spec, std::string(key) + ": expected a number, found '" + echo(text) + "'");
   }
   if (value < low || value > high) {
     fail(spec, std::string(key) + ": expected " + std::to_string(low) + " to " +
-                   std::to_string(high) + ", found " + std::string(text));
+                   std::to_string(high) + ", found " + echo(text));
   }
   return value;
 }
@@ -90,18 +100,27 @@ FaultInjection parse_fault(std::string_view spec) {
   if (!known) {
     std::string names;
     for (const auto& [k, name] : kKinds) names += (names.empty() ? "" : ", ") + std::string(name);
-    fail(spec, "unknown kind '" + std::string(kind) + "'; expected one of " + names);
+    fail(spec, "unknown kind '" + echo(kind) + "'; expected one of " + names);
   }
   if (fault.kind == FaultKind::kErrorFrames) fault.count = 10;
   bool has_object = false;
+  std::vector<std::string_view> keys_seen;
   while (!rest.empty()) {
     const std::string_view field = next_field();
     const std::size_t equals = field.find('=');
     if (equals == std::string_view::npos) {
-      fail(spec, "expected key=value, found '" + std::string(field) + "'");
+      fail(spec, "expected key=value, found '" + echo(field) + "'");
     }
     const std::string_view key = field.substr(0, equals);
     const std::string_view value = field.substr(equals + 1);
+    // One value per key, and one time: a second would silently win over the first.
+    const std::string_view slot = key == "after_enable_s" ? std::string_view("at_s") : key;
+    for (const std::string_view& earlier : keys_seen) {
+      if (earlier != slot) continue;
+      fail(spec, slot == "at_s" ? std::string("give one time, at_s or after_enable_s, once")
+                                : "key '" + echo(key) + "' given twice");
+    }
+    keys_seen.push_back(slot);
     if (key == "node") {
       fault.node_id =
           static_cast<int>(whole(spec, key, value, canopen::kMinNodeId, canopen::kMaxNodeId));
@@ -117,7 +136,7 @@ FaultInjection parse_fault(std::string_view spec) {
       fault.emcy_code = static_cast<std::uint16_t>(whole(spec, key, value, 1, 0xFFFF));
     } else if (key == "fault" && fault.kind == FaultKind::kEmergency) {
       if (value != "yes" && value != "no") {
-        fail(spec, "fault: expected yes or no, found '" + std::string(value) + "'");
+        fail(spec, "fault: expected yes or no, found '" + echo(value) + "'");
       }
       fault.latch_fault = value == "yes";
     } else if (key == "count" &&
@@ -129,7 +148,7 @@ FaultInjection parse_fault(std::string_view spec) {
     } else if (key == "object" && fault.kind == FaultKind::kSdoAbort) {
       const std::size_t colon = value.find(':');
       if (colon == std::string_view::npos) {
-        fail(spec, "object: expected INDEX:SUB, e.g. 0x6065:0, found '" + std::string(value) + "'");
+        fail(spec, "object: expected INDEX:SUB, e.g. 0x6065:0, found '" + echo(value) + "'");
       }
       fault.object.index = static_cast<std::uint16_t>(
           whole(spec, "object index", value.substr(0, colon), 0, 0xFFFF));
@@ -137,7 +156,7 @@ FaultInjection parse_fault(std::string_view spec) {
           whole(spec, "object subindex", value.substr(colon + 1), 0, 0xFF));
       has_object = true;
     } else {
-      fail(spec, "key '" + std::string(key) + "' does not apply to " + std::string(kind) +
+      fail(spec, "key '" + echo(key) + "' does not apply to " + std::string(kind) +
                      " (keys: node, at_s, after_enable_s" +
                      (fault.kind == FaultKind::kEmergency ? ", code, fault" : "") +
                      (fault.kind == FaultKind::kSdoAbort ? ", object, code" : "") +

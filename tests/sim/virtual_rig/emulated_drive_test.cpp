@@ -427,6 +427,27 @@ TEST(FaultSpec, ParsesAndRefusesWithClearMessages) {
   EXPECT_NE(message("emcy,node").find("expected key=value"), std::string::npos);
 }
 
+TEST(FaultSpec, AKeyGivenTwiceOrTwoTimesAreRefusedNotTheLastWinning) {
+  const auto message = [](std::string_view spec) {
+    try {
+      (void)parse_fault(spec);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("emcy,node=1,node=2").find("key 'node' given twice"), std::string::npos);
+  EXPECT_NE(message("emcy,at_s=1,after_enable_s=2").find("give one time"), std::string::npos);
+  EXPECT_NE(message("emcy,at_s=1,at_s=2").find("give one time"), std::string::npos);
+  // What the message repeats is escaped: a NUL no longer cuts it, an escape sequence is inert.
+  const std::string nul = message(std::string_view("smo\0ke,node=1", 14));
+  EXPECT_NE(nul.find("unknown kind 'smo\\x00ke'"), std::string::npos) << nul;
+  EXPECT_NE(nul.find("expected one of"), std::string::npos) << nul;
+  const std::string escape = message("emcy,node=\x1b[2J");
+  EXPECT_EQ(escape.find('\x1b'), std::string::npos) << escape;
+  EXPECT_NE(escape.find("\\x1b[2J"), std::string::npos) << escape;
+}
+
 TEST(EmulatedDrive, NoAllocationOnTheBusSide) {
   // Everything a cycle and configuration need, frames handed over directly (the bench's vectors
   // allocate; the drive must not).

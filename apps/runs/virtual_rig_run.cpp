@@ -4,6 +4,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 
 #include "cambio/can/socketcan_bus.hpp"
 #include "cambio/hal/monotonic_clock.hpp"
@@ -66,9 +67,15 @@ int run_virtual_rig(const config::RigConfig& rig, const virtual_rig::VirtualRigO
   std::unique_ptr<virtual_rig::VirtualRig> emulated;
   try {
     emulated = std::make_unique<virtual_rig::VirtualRig>(rig, &open_socketcan_bus, options);
-  } catch (const std::exception& error) {
+  } catch (const std::invalid_argument& error) {
+    // The rig or the faults asked for something the emulation cannot be.
     std::cerr << "cambio virtual-rig: " << error.what() << "\n";
     return kExitBadInput;
+  } catch (const std::exception& error) {
+    // A bus that cannot be opened (no SocketCAN in the kernel, no interface): a device fault, as
+    // for `cambio run` and `cambio console` on the same machine.
+    std::cerr << "cambio virtual-rig: " << error.what() << "\n";
+    return kExitDeviceFault;
   }
   print_layout(*emulated, options);
 

@@ -180,6 +180,16 @@ TEST(CambioCli, RunOnCanWithoutItsBusIsADeviceFault) {
   EXPECT_TRUE(contains(result.output, "cambio_absent0")) << result.output;
 }
 
+// The same absent bus from the emulated drives' side: before, virtual-rig said exit 2 (bad input)
+// where run and console said 3.
+TEST(CambioCli, VirtualRigWithoutItsBusIsADeviceFaultAsForRun) {
+  const auto result = run_cambio(
+      "virtual-rig --config pan_tilt --duration-s 0.1 --set "
+      "can_buses.can0.interface=cambio_absent0");
+  EXPECT_EQ(result.exit_code, 3) << result.output;
+  EXPECT_TRUE(contains(result.output, "cambio_absent0")) << result.output;
+}
+
 TEST(CambioCli, RunTheSimDefaultBriefly) {
   const auto out_dir = std::filesystem::temp_directory_path() / "cambio_cli_test_run";
   std::filesystem::remove_all(out_dir);

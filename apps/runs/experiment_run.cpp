@@ -106,7 +106,12 @@ int run_experiment(const config::ExperimentConfig& experiment, can::CanTrafficLo
   }
   warn_allocating_loops(result);
 
-  RunOutcome outcome = outcome_of(result, evaluation && !all_passed(evaluation->goals));
+  // An experiment with goals is judged by them; one without is judged by its script, so a
+  // command the loops refused is no completed run (the refusal was only in summary.json).
+  const bool refused = report_refused_commands(result);
+  const bool judged_by_script = experiment.goals.empty() && !experiment.behaviour;
+  RunOutcome outcome =
+      outcome_of(result, evaluation && !all_passed(evaluation->goals), refused && judged_by_script);
   if (can_log != nullptr) close_can_log(*can_log, outcome);
   report_early_end(outcome, result, experiment.duration_s);
   if (out != nullptr) write_run_results(*out, experiment, *job, result, outcome, evaluation);

@@ -15,7 +15,7 @@ std::string stop_signal_name(int signal_number) {
                                     : "signal " + std::to_string(signal_number);
 }
 
-RunOutcome outcome_of(const MainJobResult& result, bool goal_failed) {
+RunOutcome outcome_of(const MainJobResult& result, bool goal_failed, bool script_refused) {
   if (result.stopped_by_signal) {
     const int signal_number = stop_signal_number();
     return {"interrupted", exit_status_for_signal(signal_number), stop_signal_name(signal_number)};
@@ -24,7 +24,22 @@ RunOutcome outcome_of(const MainJobResult& result, bool goal_failed) {
   // A behaviour that threw stopped itself and the robot held: the run did not do its task.
   if (result.behaviour && result.behaviour->failed) return {"behaviour_failed", kExitFailure, ""};
   if (goal_failed) return {"goal_failed", kExitFailure, ""};
+  if (script_refused) return {"commands_refused", kExitFailure, ""};
   return {"completed", kExitOk, ""};
+}
+
+bool report_refused_commands(const MainJobResult& result) {
+  bool refused = false;
+  if (result.gaze && result.gaze_rejected_commands > 0) {
+    std::cerr << "cambio run: the gaze loop refused " << result.gaze_rejected_commands
+              << " command(s), the last: " << control::to_string(result.gaze->last_refusal) << "\n";
+    refused = true;
+  }
+  if (result.arms && !result.arms->refusal().empty()) {
+    std::cerr << "cambio run: the arms refused a command: " << result.arms->refusal() << "\n";
+    refused = true;
+  }
+  return refused;
 }
 
 void report_early_end(const RunOutcome& outcome, const MainJobResult& result, double duration_s) {

@@ -81,12 +81,11 @@ TEST_P(ReachExperiment, TouchesAndGraspsWithinItsGoals) {
   EXPECT_EQ(arm.at("phase"), "touching") << summary.at("arms").dump();
   EXPECT_EQ(arm.at("gripper_closed"), true) << "the gripper closes after the touch";
   EXPECT_TRUE(summary.at("arms").at("refusal").is_null());
-  // The joint loops never allocate; the arm's and the gaze's ViSP laws do and say so.
+  // No control loop allocates, the arm's and the gaze's laws included, reaching or not.
   for (const auto& loop : summary.at("loops")) {
     const std::string name = loop.at("name");
-    if (name == "arm" || name == "control") {
-      EXPECT_TRUE(loop.at("allocation_exempt").get<bool>()) << loop.dump();
-    } else if (name.starts_with("joint")) {
+    if (name == "arm" || name == "control" || name.starts_with("joint")) {
+      EXPECT_FALSE(loop.at("allocation_exempt").get<bool>()) << loop.dump();
       EXPECT_EQ(loop.at("allocations").get<long long>(), 0) << loop.dump();
     }
   }
@@ -114,6 +113,21 @@ TEST(ReachExperimentRefusal, OutOfReachIsRefusedWithTheReasonAndFailsItsGoals) {
   EXPECT_NE(goal.at("reason").get<std::string>().find("refused: out of reach"), std::string::npos)
       << goal.dump();
   EXPECT_NE(run.result.output.find("out of reach"), std::string::npos);
+}
+
+// Without goals, the script is the experiment's task: a reach the arms refused exited 0 with the
+// refusal only in summary.json.
+TEST(ReachExperimentRefusal, AGoalLessScriptWhoseReachIsRefusedDoesNotComplete) {
+  const ReachRun run = run_reach("goal_less",
+                                 "--set 'experiment.goals={}' --set experiment.duration_s=0.6 "
+                                 "--set 'experiment.evaluation.key_frames_s=[0.5]' "
+                                 "--set 'experiment.commands=[{at_s: 0.1, reach: [2, 0, 1]}]' ");
+  ASSERT_FALSE(run.summary.is_null()) << run.result.output;
+  EXPECT_EQ(run.result.exit_code, 1) << run.result.output;
+  EXPECT_EQ(run.summary.at("outcome"), "commands_refused");
+  EXPECT_NE(run.result.output.find("cambio run: the arms refused a command: out of reach"),
+            std::string::npos)
+      << run.result.output;
 }
 
 }  // namespace

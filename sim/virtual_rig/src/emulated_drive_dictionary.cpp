@@ -107,7 +107,9 @@ void EmulatedDrive::add_cia402_objects() {
   d.add({0x6067, 0}, "Position window", kUnsigned32, kReadWrite,
         saturating_counts(config_.position_window_rad * units_.counts_per_rad));
   d.add(cia402::kVelocityActualValue, "Velocity actual value", kInteger32, kReadOnly, 0, true);
-  d.add(cia402::kRatedTorque, "Rated torque", kUnsigned32, kConst,
+  // Read-only, not const: the emulation takes it from the rig joint's max_effort_nm (1 N m, the
+  // EDS's DefaultValue, without one), so it differs from drive to drive.
+  d.add(cia402::kRatedTorque, "Rated torque", kUnsigned32, kReadOnly,
         saturating_counts(config_.rated_torque_nm * 1000.0));
   d.add(cia402::kTorqueActualValue, "Torque actual value", kInteger16, kReadOnly, 0, true);
   d.add(cia402::kTargetPosition, "Target position", kInteger32, kReadWrite, 0, true);

@@ -199,5 +199,19 @@ TEST(Eds, DeviceInfoMatchesTheIdentityObject) {
   EXPECT_EQ(number(info.at("NrOfTXPDO")), EmulatedDrive::kPdoCount);
 }
 
+// CiA 306: a const object's value is the data sheet's, so it must say it (0x6076 said none).
+TEST(Eds, EveryConstObjectGivesItsValue) {
+  const Ini eds =
+      read_ini(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/eds/cambio_virtual_drive.eds");
+  int consts = 0;
+  for (const auto& [section, keys] : eds) {
+    const auto access = keys.find("AccessType");
+    if (access == keys.end() || access->second != "const") continue;
+    ++consts;
+    EXPECT_TRUE(keys.count("DefaultValue")) << "[" << section << "] is const without DefaultValue";
+  }
+  EXPECT_GT(consts, 3);
+}
+
 }  // namespace
 }  // namespace cambio::virtual_rig::test

@@ -10,6 +10,7 @@
 
 #include "argument_parser.hpp"
 #include "command.hpp"
+#include "config_errors.hpp"
 #include "output_directory.hpp"
 
 namespace {
@@ -73,6 +74,10 @@ int main(int argc, char** argv) {
       return cambio::app::kExitBadInput;
     } catch (const cambio::app::OutputError& error) {
       std::cerr << "cambio " << name << ": " << error.what() << "\n";
+      return cambio::app::kExitBadInput;
+    } catch (const cambio::config::ConfigError& error) {
+      // Configuration found before a command's own loading (CAMBIO_CONFIG_DIR, shipped defaults).
+      cambio::app::report_config_error(error);
       return cambio::app::kExitBadInput;
     } catch (const std::exception& error) {
       std::cerr << "cambio " << name << ": error: " << error.what() << "\n";

@@ -41,13 +41,12 @@ perception::PixelPoint parse_point(const std::string& option, const std::string&
 
 /// --config and --set into `inputs`; false (the issues printed) when the config is invalid.
 bool load_config_or_report(const ArgumentParser& parser, PerceiveInputs& inputs) {
-  inputs.config_path = parser.value("config", perception::default_ssm_config_path());
   try {
+    inputs.config_path =
+        parser.has("config") ? parser.value("config") : perception::default_ssm_config_path();
     std::vector<config::ConfigOverride> overrides;
     for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
-    if (!inputs.config_path.empty()) {
-      inputs.config = perception::load_ssm_config(inputs.config_path, overrides);
-    }
+    inputs.config = perception::load_ssm_config(inputs.config_path, overrides);
   } catch (const config::ConfigError& error) {
     report_config_error(error);
     return false;

@@ -34,8 +34,7 @@ perception::SsmConfig stereo_ssm_config(const config::ExperimentConfig& experime
   const std::string ssm_path = experiment.perception_path.empty()
                                    ? perception::default_ssm_config_path()
                                    : experiment.perception_path;
-  perception::SsmConfig ssm =
-      ssm_path.empty() ? perception::SsmConfig{} : perception::load_ssm_config(ssm_path, {});
+  perception::SsmConfig ssm = perception::load_ssm_config(ssm_path, {});
   if (!(ssm.disparity.scan_range_px > 0.0)) {
     ssm.disparity.scan_range_px = perception::largest_disparity_px(
         hardware.cameras[stereo.left].intrinsics.focal_x_px, hardware.stereo->baseline_m);

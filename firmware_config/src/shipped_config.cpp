@@ -4,12 +4,26 @@
 #include <filesystem>
 #include <system_error>
 
+#include "cambio/config/config_error.hpp"
+#include "cambio/config/echoed_text.hpp"
+
 namespace cambio::config {
 
 namespace fs = std::filesystem;
 
 std::string shipped_config_dir() {
   if (const char* from_env = std::getenv("CAMBIO_CONFIG_DIR"); from_env && *from_env) {
+    // The user named where the configuration is: a directory that is not there is their mistake
+    // to hear about, never a reason to run on other files or on built-in defaults.
+    std::error_code error;
+    if (!fs::is_directory(from_env, error)) {
+      const bool exists = fs::exists(from_env, error);
+      throw ConfigError({ConfigIssue{
+          "environment", 0, 0, "CAMBIO_CONFIG_DIR",
+          "expected the directory of Câmbio's configuration (rigs/, scenes/, experiments/, "
+          "perception/), found " +
+              in_quotes(from_env) + (exists ? ": not a directory" : ": it does not exist")}});
+    }
     return from_env;
   }
   const fs::path install_dir = CAMBIO_INSTALL_CONFIG_DIR;

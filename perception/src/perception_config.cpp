@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cambio/config/config_error.hpp"
 #include "cambio/config/map_reader.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/perception/gaussian_kernels.hpp"
@@ -199,7 +200,16 @@ SsmConfig load_ssm_config(const std::string& path,
 }
 
 std::string default_ssm_config_path() {
-  return config::find_shipped_config("perception/ssm.yaml");
+  const std::string path = config::find_shipped_config("perception/ssm.yaml");
+  if (path.empty()) {
+    // Running on built-in defaults without a word would hide a broken install or a wrong
+    // CAMBIO_CONFIG_DIR.
+    throw config::ConfigError({config::ConfigIssue{
+        config::shipped_config_dir() + "/perception/ssm.yaml", 0, 0, "",
+        "cannot read the shipped perception settings: it does not exist (give --config FILE, "
+        "or set CAMBIO_CONFIG_DIR to a directory that has perception/ssm.yaml)"}});
+  }
+  return path;
 }
 
 }  // namespace cambio::perception

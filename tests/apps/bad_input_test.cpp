@@ -210,5 +210,27 @@ TEST(BadInputTest, TheRealTimeFactorIsADecimalNumberAsEveryOtherOption) {
   });
 }
 
+// A CAMBIO_CONFIG_DIR that is no directory: before, render said "cannot read the file" without
+// naming it and perceive ran on built-in defaults without a word.
+TEST(BadInputTest, AConfigDirectoryThatIsNotThereIsNamed) {
+  const auto dir = fresh_dir("bad_config_dir");
+  const auto image = (dir / "grey.pgm").string();
+  std::ofstream(image) << "P5 8 8 255\n" << std::string(64, '\x80');
+  for (const std::string& arguments :
+       {"render --scene vergence --out '" + (dir / "r").string() + "'",
+        "perceive --left '" + image + "' --right '" + image + "' --out '" + (dir / "p").string() +
+            "'"}) {
+    const auto result = testing::run_shell(
+        "cd '" + std::string(CAMBIO_SOURCE_DIR) + "' && CAMBIO_CONFIG_DIR=/nonexistent/cambio '" +
+        CAMBIO_BINARY_DIR + "/bin/cambio' " + arguments + " 2>&1");
+    EXPECT_EQ(result.exit_code, 2) << arguments << "\n" << result.output;
+    EXPECT_NE(result.output.find("CAMBIO_CONFIG_DIR: expected the directory of"), std::string::npos)
+        << result.output;
+    EXPECT_NE(result.output.find("\"/nonexistent/cambio\": it does not exist"), std::string::npos)
+        << result.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "p" / "summary.json")) << arguments;
+  }
+}
+
 }  // namespace
 }  // namespace cambio

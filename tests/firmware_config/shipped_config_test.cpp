@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../scoped_environment_variable.hpp"
+#include "cambio/config/config_error.hpp"
 #include "cambio/config/rig_loader.hpp"
 
 namespace cambio::config {
@@ -35,6 +36,22 @@ TEST(ShippedConfig, EnvironmentVariableWinsForEveryKind) {
   EXPECT_EQ(shipped_config_dir(), dir.string());
   EXPECT_EQ(find_shipped_config("perception/ssm.yaml"), (dir / "perception" / "ssm.yaml").string());
   EXPECT_EQ(find_shipped_config("rigs/cambio.yaml"), "");
+}
+
+TEST(ShippedConfig, AnEnvironmentVariableNamingNoDirectoryIsRefusedNotIgnored) {
+  const auto file = std::filesystem::temp_directory_path() / "cambio_shipped_config_test_file";
+  std::ofstream(file) << "not a directory\n";
+  for (const std::string& value : {std::string("/nonexistent/cambio"), file.string()}) {
+    const cambio::testing::ScopedEnvironmentVariable override_dir("CAMBIO_CONFIG_DIR", value);
+    try {
+      (void)find_shipped_config("perception/ssm.yaml");
+      ADD_FAILURE() << value << " was taken";
+    } catch (const ConfigError& error) {
+      ASSERT_EQ(error.issues().size(), 1u);
+      EXPECT_EQ(error.issues()[0].key_path, "CAMBIO_CONFIG_DIR");
+      EXPECT_NE(error.issues()[0].message.find(value), std::string::npos) << error.what();
+    }
+  }
 }
 
 TEST(ResolveConfigArgument, AnExistingPathIsTakenAsGiven) {

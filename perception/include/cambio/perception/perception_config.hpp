@@ -109,8 +109,8 @@ SsmConfig read_ssm_config(config::MapReader& root);
 SsmConfig load_ssm_config(const std::string& path,
                           const std::vector<config::ConfigOverride>& overrides);
 
-/// The shipped defaults file, perception/ssm.yaml (see config::find_shipped_config); empty if
-/// there is none.
+/// The shipped defaults file, perception/ssm.yaml (see config::find_shipped_config). Throws
+/// config::ConfigError naming where it looked when there is none.
 std::string default_ssm_config_path();
 
 }  // namespace cambio::perception

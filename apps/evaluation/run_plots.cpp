@@ -6,6 +6,7 @@
 
 #include "output_directory.hpp"
 #include "plot_figure.hpp"
+#include "plot_process.hpp"
 
 namespace cambio::app {
 
@@ -163,14 +164,20 @@ std::vector<Figure> figures_of(const Trace& trace, const PlotInputs& inputs) {
 
 }  // namespace
 
-std::vector<std::string> stage_plots(OutputDirectory& out, const Trace& trace,
-                                     const PlotInputs& inputs) {
-  std::vector<std::string> staged;
-  for (const Figure& figure : figures_of(trace, inputs)) {
-    out.stage(figure.file, detail::draw_png(figure));
-    staged.push_back(figure.file);
+StagedPlots stage_plots(OutputDirectory& out, const Trace& trace, const PlotInputs& inputs) {
+  StagedPlots plots;
+  for (const detail::DrawnFigure& figure : detail::draw_pngs_in_child(figures_of(trace, inputs))) {
+    if (figure.png.empty()) {
+      // draw_png's own messages start with the file's name.
+      plots.missing.push_back(figure.error.starts_with(figure.file + ":")
+                                  ? figure.error
+                                  : figure.file + ": " + figure.error);
+      continue;
+    }
+    out.stage(figure.file, figure.png);
+    plots.staged.push_back(figure.file);
   }
-  return staged;
+  return plots;
 }
 
 }  // namespace cambio::app

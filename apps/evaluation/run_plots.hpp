@@ -31,10 +31,14 @@ struct PlotInputs {
 ///  - plot_reach.png (when the run made a reach): the reaching arm's fingertips, their believed
 ///    distance to the target and their true distance to the target object's surface (m), and
 ///    their true speed (m/s), from the reach command on.
-/// Returns the names staged. A plot that cannot be drawn or written throws OutputError naming
-/// it (PLplot's message included); nothing is left behind. PLplot keeps global state: call from
-/// one thread at a time, after the run. Not real-time safe.
-std::vector<std::string> stage_plots(OutputDirectory& out, const Trace& trace,
-                                     const PlotInputs& inputs);
+/// The plots are optional results: they are drawn in a child process (plot_process.hpp), and one
+/// that cannot be drawn (PLplot's message, or the signal that ended the plotting) is listed in
+/// `missing`, never an error of the run. Throws OutputError only for inputs that name no data
+/// (a joint the trace does not have). Call after the run, from one thread. Not real-time safe.
+struct StagedPlots {
+  std::vector<std::string> staged;   ///< File names, in the order above.
+  std::vector<std::string> missing;  ///< "plot_x.png: why", one per plot not made.
+};
+StagedPlots stage_plots(OutputDirectory& out, const Trace& trace, const PlotInputs& inputs);
 
 }  // namespace cambio::app

@@ -51,7 +51,10 @@ void write_run_results(OutputDirectory& out, const config::ExperimentConfig& exp
     if (stop_hurried()) {
       std::cerr << "cambio run: plots skipped: a second signal asked to hurry\n";
     } else {
-      stage_plots(out, *trace, plots);
+      // Plots are optional: one that cannot be made is a warning, and the results stand.
+      for (const std::string& missing : stage_plots(out, *trace, plots).missing) {
+        std::cerr << "cambio run: warning: plot not made: " << missing << "\n";
+      }
     }
   }
   out.stage("summary.json",

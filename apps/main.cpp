@@ -1,14 +1,17 @@
 // `cambio`: the command-line front end. Dispatches to one subcommand per file.
+#include <unistd.h>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "argument_parser.hpp"
+#include "cambio/sim/address_space_limit.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "output_directory.hpp"
@@ -30,7 +33,8 @@ void print_usage(std::ostream& out) {
          "  2    bad input: arguments, config, input files or images, an unusable --out\n"
          "  3    a device fault (drive or bus) stopped the run\n"
          "  130  stopped by SIGINT (Ctrl-C); 143 by SIGTERM or SIGHUP\n"
-         "  where several apply: a signal over a device fault over a failed goal\n";
+         "  where several apply: a signal over a device fault over a failed goal\n"
+         "  out of memory is said as such (under an address-space limit, with the limit)\n";
 }
 
 /// Standard output is where --json and check-config answer: a failed write (a full disk, a
@@ -45,9 +49,29 @@ int check_standard_output(const std::string& command, int status) {
   return status == cambio::app::kExitOk ? cambio::app::kExitBadInput : status;
 }
 
+// A library that aborts (LLVM inside Mesa's llvmpipe: "Unable to allocate section memory") under
+// an address-space limit says nothing of memory; the note, made before anything can fail, is
+// written from the handler with write(2) alone (async-signal-safe), then the abort goes on.
+std::string g_abort_note;
+
+extern "C" void say_abort_under_a_memory_limit(int signal_number) {
+  [[maybe_unused]] const ssize_t ignored =
+      ::write(STDERR_FILENO, g_abort_note.data(), g_abort_note.size());
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+void install_abort_note() {
+  const std::string note = cambio::sim::address_space_limit_note();
+  if (note.empty()) return;
+  g_abort_note = "cambio: aborted inside a library" + note + "\n";
+  std::signal(SIGABRT, say_abort_under_a_memory_limit);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  install_abort_note();
   // A reader that went away (`cambio ... | head`) is a failed write, checked like a full disk
   // (exit 2 with the reason), not a silent death by SIGPIPE that skips a console's clean stop.
   std::signal(SIGPIPE, SIG_IGN);
@@ -79,6 +103,10 @@ int main(int argc, char** argv) {
       // Configuration found before a command's own loading (CAMBIO_CONFIG_DIR, shipped defaults).
       cambio::app::report_config_error(error);
       return cambio::app::kExitBadInput;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "cambio " << name << ": out of memory" << cambio::sim::address_space_limit_note()
+                << "\n";
+      return cambio::app::kExitFailure;
     } catch (const std::exception& error) {
       std::cerr << "cambio " << name << ": error: " << error.what() << "\n";
       return cambio::app::kExitFailure;

@@ -9,6 +9,7 @@
 #include <EGL/eglext.h>
 #include <GL/gl.h>
 
+#include "cambio/sim/address_space_limit.hpp"
 #include "cambio/sim/egl_devices.hpp"
 #include "egl_support.hpp"
 
@@ -114,9 +115,15 @@ OpenContext open_surfaceless(const std::string& why) {
   } catch (const EglStepFailed& failed) {
     std::string message = "offscreen rendering on Mesa surfaceless: ";
     message += failed.what();
-    message += "; the sim needs EGL with Mesa's surfaceless platform (";
-    message += kMesaPackages;
-    message += ")";
+    // Under an address-space limit the packages are there and memory is what is missing.
+    const std::string limit_note = address_space_limit_note();
+    if (limit_note.empty()) {
+      message += "; the sim needs EGL with Mesa's surfaceless platform (";
+      message += kMesaPackages;
+      message += ")";
+    } else {
+      message += limit_note;
+    }
     if (!why.empty()) message += " (auto fell back to it: " + why + ")";
     throw std::runtime_error(message);
   }

@@ -8,6 +8,7 @@
 #include <mujoco/mujoco.h>
 
 #include "cambio/config/config_error.hpp"
+#include "cambio/sim/address_space_limit.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "view_culling.hpp"
 
@@ -102,6 +103,14 @@ Renderer::Renderer(const World& world)
     if (context_->currentBuffer != mjFB_OFFSCREEN) {
       throw MujocoError("MuJoCo: the offscreen framebuffer is not available on this GL context");
     }
+  } catch (const MujocoError& error) {
+    mjr_freeContext(context_.get());
+    mjv_freeScene(scene_.get());
+    mj_deleteData(data_);
+    // "Offscreen framebuffer is not complete" under a memory limit is the limit.
+    const std::string limit_note = address_space_limit_note();
+    if (limit_note.empty()) throw;
+    throw MujocoError(error.what() + limit_note);
   } catch (...) {
     mjr_freeContext(context_.get());
     mjv_freeScene(scene_.get());

@@ -401,6 +401,16 @@ TEST(EmulatedDriveFaults, ErrorFrameBurstIsReportedAsErrorPassive) {
   EXPECT_EQ(bench.drive().drive_state(), hal::DriveState::kSwitchOnDisabled) << "no drive fault";
 }
 
+/// What parse_fault says of `spec`: its error, or "accepted".
+std::string fault_message(std::string_view spec) {
+  try {
+    (void)parse_fault(spec);
+  } catch (const std::invalid_argument& error) {
+    return std::string(error.what());
+  }
+  return std::string("accepted");
+}
+
 TEST(FaultSpec, ParsesAndRefusesWithClearMessages) {
   const FaultInjection emcy = parse_fault("emcy,node=2,at_s=1.5,code=0x7300,fault=no");
   EXPECT_EQ(emcy.kind, FaultKind::kEmergency);
@@ -411,14 +421,7 @@ TEST(FaultSpec, ParsesAndRefusesWithClearMessages) {
   const FaultInjection late = parse_fault("late-tpdo,count=4,delay_ms=3");
   EXPECT_EQ(late.count, 4);
   EXPECT_DOUBLE_EQ(late.delay_s, 0.003);
-  const auto message = [](const char* spec) {
-    try {
-      (void)parse_fault(spec);
-    } catch (const std::invalid_argument& error) {
-      return std::string(error.what());
-    }
-    return std::string("accepted");
-  };
+  const auto message = fault_message;
   EXPECT_NE(message("smoke").find("unknown kind 'smoke'"), std::string::npos);
   EXPECT_NE(message("emcy,node=200").find("node: expected 1 to 127"), std::string::npos);
   EXPECT_NE(message("emcy,at_s=soon").find("at_s: expected a number"), std::string::npos);
@@ -428,14 +431,7 @@ TEST(FaultSpec, ParsesAndRefusesWithClearMessages) {
 }
 
 TEST(FaultSpec, AKeyGivenTwiceOrTwoTimesAreRefusedNotTheLastWinning) {
-  const auto message = [](std::string_view spec) {
-    try {
-      (void)parse_fault(spec);
-    } catch (const std::invalid_argument& error) {
-      return std::string(error.what());
-    }
-    return std::string("accepted");
-  };
+  const auto message = fault_message;
   EXPECT_NE(message("emcy,node=1,node=2").find("key 'node' given twice"), std::string::npos);
   EXPECT_NE(message("emcy,at_s=1,after_enable_s=2").find("give one time"), std::string::npos);
   EXPECT_NE(message("emcy,at_s=1,at_s=2").find("give one time"), std::string::npos);

@@ -1,12 +1,12 @@
-# ViSP from Debian's component packages, contained to the targets that link it.
+# ViSP from Debian's component packages, contained to the targets that link it: the vpServo laws
+# the control laws are checked against (cambio_control_visp_reference, for the tests and the
+# benchmarks; control/CMakeLists.txt).
 #
 # Debian splits ViSP into per-module packages and ships no VISPConfig.cmake with them; and
 # find_package(VISP) would anyway set CMAKE_CXX_STANDARD and add OpenMP flags to every target.
-# So the three modules the fixation servo needs are found by hand and wrapped in
+# So the three modules the servos' reference needs are found by hand and wrapped in
 # cambio_link_visp(), which adds them PRIVATE to one target: its headers and flags reach nobody
-# else. The libraries are linked by absolute path (not an imported target) so that the static
-# cambio_control exported by install(EXPORT) carries them as plain files a consumer's linker
-# finds, with no ViSP package needed on the consumer's side.
+# else. The libraries are linked by absolute path (not an imported target), as plain files.
 set(CAMBIO_VISP_PACKAGES libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev)
 
 find_path(CAMBIO_VISP_INCLUDE_DIR NAMES visp3/vs/vpServo.h

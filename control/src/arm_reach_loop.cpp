@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "arm_reach_servo_visp.hpp"
+#include "arm_reach_law.hpp"
 
 namespace cambio::control {
 namespace {
@@ -63,7 +63,7 @@ ArmReachLoop::ArmReachLoop(const hal::HardwareInfo& hardware, const ArmReachPara
     arm_rig_indices_.insert(arm_rig_indices_.end(), arm.chain.rig.begin(), arm.chain.rig.end());
   }
   if (arm_rig_indices_.empty()) throw std::invalid_argument("arm loop: no arm group given");
-  servo_ = std::make_unique<detail::ArmReachServoVisp>(params.gain_per_s);
+  law_ = std::make_unique<detail::ArmReachLaw>(params.gain_per_s);
   for (const auto& joint : hardware.joints) limits_tree_.push_back(joint.limits);
   rig_to_tree_.assign(command_kinematics_.rig_to_tree().begin(),
                       command_kinematics_.rig_to_tree().end());
@@ -408,7 +408,7 @@ bool ArmReachLoop::solve_joint_velocities(const Arm& arm, const Eigen::Vector3d&
       J_free.col(k).setZero();
       u2_free[k] = 0.0;
     }
-    if (!servo_->control_law(e_W, J_free, u2_free, q, q_min, q_max, qdot) || !qdot.allFinite()) {
+    if (!law_->control_law(e_W, J_free, u2_free, q, q_min, q_max, qdot)) {
       return false;
     }
     bool again = false;

@@ -1,8 +1,10 @@
 #pragma once
 
-// ArmReachServo's ViSP part, behind a C++17 interface: ViSP 3.5's headers are not valid C++20
-// (see fixation_servo_visp.hpp), so arm_reach_servo_visp.cpp alone is compiled as C++17
-// (control/CMakeLists.txt) and this header must stay C++17 too. Private to cambio_control.
+// The arm loop's law as ViSP's vpServo computes it: the reference detail::ArmReachLaw is held to
+// (tests, benchmarks; the cambio_control_visp_reference target of control/CMakeLists.txt, never
+// installed). Behind a C++17 interface: ViSP 3.5's headers are not valid C++20 (see
+// fixation_servo_visp.hpp), so arm_reach_servo_visp.cpp is compiled as C++17 and this header must
+// stay C++17 too.
 
 #include <memory>
 
@@ -21,7 +23,7 @@ namespace cambio::control::detail {
 /// q' = lambda J_v^+ (target - tip): the error decays exponentially along the straight line to
 /// the target, whatever the hand's orientation. The hand's pitch is the arm's one redundant
 /// degree of freedom (four joints, three coordinates): the secondary task.
-/// Allocates (ViSP's matrices); returns false where ViSP throws.
+/// Allocates (ViSP's matrices: not for a real-time loop); returns false where ViSP throws.
 class ArmReachServoVisp {
  public:
   explicit ArmReachServoVisp(double gain_per_s);

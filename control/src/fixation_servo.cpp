@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fixation_servo_visp.hpp"
+#include "fixation_law.hpp"
 
 namespace cambio::control {
 
@@ -67,14 +67,14 @@ struct FixationServo::Impl {
   Eigen::Matrix<double, 6, kServoed> eJe_full;
   std::vector<double> q_solve;
   std::vector<double> qdot_solve;
-  detail::FixationServoVisp visp;
+  detail::FixationLaw law;
 };
 
 FixationServo::Impl::Impl(const hal::HardwareInfo& hardware, const FixationParams& params_in)
     : kinematics(hardware),
       head(find_head_joints(kinematics, hardware)),
       params(params_in),
-      visp(params_in.gain_per_s) {
+      law(params_in.gain_per_s) {
   const std::string where = "fixation servo on '" + hardware.name + "': ";
   auto positive = [&](double value, const char* name) {
     if (!(value > 0.0) || !std::isfinite(value)) {
@@ -204,7 +204,7 @@ hal::Status FixationServo::Impl::compute(std::span<const double> q, const Eigen:
     }
     u2.setZero();
     if (!blocked[0]) u2(0) = rule_gain_per_s * excess_rad / weights[0];
-    if (!visp.control_law(p.x() / p.z(), p.y() / p.z(), p.z(), eJe, u2, u)) {
+    if (!law.control_law(p.x() / p.z(), p.y() / p.z(), p.z(), eJe, u2, u)) {
       return hal::Status::kRejected;
     }
     bool newly_blocked = false;
@@ -320,7 +320,7 @@ hal::Status FixationServo::feature_jacobian(std::span<const double> q_tree_rad,
   }
   const Eigen::Vector3d& p = projection.servoed_C;
   Eigen::Matrix<double, 2, 6> L;
-  if (!detail::FixationServoVisp::interaction(p.x() / p.z(), p.y() / p.z(), p.z(), L)) {
+  if (!detail::FixationLaw::interaction(p.x() / p.z(), p.y() / p.z(), p.z(), L)) {
     return hal::Status::kRejected;
   }
   J = L * m.eJe_full;

@@ -1,9 +1,10 @@
 #pragma once
 
-// FixationServo's ViSP part, behind a C++17 interface: ViSP 3.5's headers are not valid C++20
-// (vpArray2D declares constructors as template-ids, ill-formed since CWG 2237, an error in
-// GCC 12), so fixation_servo_visp.cpp alone is compiled as C++17 (control/CMakeLists.txt) and
-// this header must stay C++17 too. Private to cambio_control; never installed.
+// FixationServo's law as ViSP's vpServo computes it: the reference detail::FixationLaw is held to
+// (tests, benchmarks; the cambio_control_visp_reference target of control/CMakeLists.txt, never
+// installed). Behind a C++17 interface: ViSP 3.5's headers are not valid C++20 (vpArray2D
+// declares constructors as template-ids, ill-formed since CWG 2237, an error in GCC 12), so
+// fixation_servo_visp.cpp is compiled as C++17 and this header must stay C++17 too.
 
 #include <memory>
 
@@ -13,7 +14,7 @@ namespace cambio::control::detail {
 
 /// A vpServo (EYEINHAND_L_cVe_eJe, cVe = identity, interaction matrix at the current feature,
 /// pseudo-inverse) on one vpFeaturePoint driven to (0, 0), with a secondary task in its null
-/// space. Allocates (ViSP's matrices); returns false where ViSP throws.
+/// space. Allocates (ViSP's matrices: not for a real-time loop); returns false where ViSP throws.
 class FixationServoVisp {
  public:
   explicit FixationServoVisp(double gain_per_s);

@@ -1,5 +1,6 @@
 #include "cambio/perception/camera_loop.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace cambio::perception {
@@ -39,6 +40,11 @@ void CameraLoop::configure() {
     hal::Image scratch = image_for(*camera);
     (void)camera->grab(scratch);
   }
+}
+
+bool CameraLoop::allocates_in_update() const {
+  return std::any_of(cameras_.begin(), cameras_.end(),
+                     [](const hal::Camera* camera) { return camera->grab_allocates(); });
 }
 
 hal::Status CameraLoop::update(const hal::LoopTick&) noexcept {

@@ -1,4 +1,4 @@
-// The ViSP fixation servo on the shipped rig's model (no sim): its feature Jacobian against finite
+// The fixation servo on the shipped rig's model (no sim): its feature Jacobian against finite
 // differences of the projection through Kinematics, and the law integrated at 200 Hz (Euler,
 // positions clamped to the limits as the joint loop clamps them) against closed forms: a small
 // gaze shift is the eye's alone and ends at the atan2 pan, a large one turns the neck until both
@@ -145,7 +145,7 @@ TEST_F(FixationServoTest, FeatureJacobianIsTheDerivativeOfTheProjection) {
             (project(kinematics_, plus, camera, p_W) - project(kinematics_, minus, camera, p_W)) /
             (2.0 * kStepRad);
         EXPECT_NEAR((J.col(c) - numeric).norm(), 0.0, 1e-6)
-            << "trial " << trial << " column " << c << ": ViSP " << J.col(c).transpose()
+            << "trial " << trial << " column " << c << ": servo " << J.col(c).transpose()
             << ", finite differences " << numeric.transpose();
       }
     }

@@ -18,6 +18,7 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/shipped_config.hpp"
+#include "update_heap_use.hpp"
 
 namespace cambio::control {
 namespace {
@@ -122,7 +123,7 @@ class GazeHarness {
     tick.now_ns = now_ns_;
     tick.deadline_ns = now_ns_;
     tick.period_s = kPeriodS;
-    ASSERT_EQ(loop_->update(tick), hal::Status::kOk);
+    ASSERT_EQ(heap_use_.update(*loop_, tick), hal::Status::kOk);
     JointTargetFrame targets;
     ASSERT_TRUE(targets_.read(targets));
     previous_q_rig_ = q_rig_;
@@ -172,6 +173,8 @@ class GazeHarness {
   void set_steady_fovea(bool steady) { steady_fovea_ = steady; }
   const GazeLoop& loop() const { return *loop_; }
   GazeLoop& loop() { return *loop_; }
+  /// What the loop's update() took from the heap over every step() so far.
+  const UpdateHeapUse& heap_use() const { return heap_use_; }
   const hal::HardwareInfo& hardware() const { return hardware_; }
   /// Before build().
   hal::JointLimits& limits(const std::string& joint) {
@@ -258,6 +261,7 @@ class GazeHarness {
   std::int64_t now_ns_ = 1'000'000'000;
   Eigen::Vector2d previous_object_px_ = Eigen::Vector2d::Zero();
   bool have_previous_frame_ = false;
+  UpdateHeapUse heap_use_;
   bool steady_fovea_ = false;
 };
 
@@ -606,6 +610,50 @@ TEST(GazeLoop, ExtraFeatureRequestsAreAddedToWhatTheGazeNeeds) {
   EXPECT_TRUE(head.request().features.motion);
   EXPECT_TRUE(head.request().features.moments);
   EXPECT_TRUE(head.request().features.disparity) << "the gaze's own need was dropped";
+}
+
+TEST(GazeLoop, UpdateNeverAllocatesAfterConfigure) {
+  // Every mode, on what the constructor allocated: fixation beyond the neck rule (the law's
+  // secondary task) with the dominant eye stopped at a limit (the law solved again without it),
+  // vergence, a saccade (solve()), pursuit, a pixel target, joint moves and a refused command.
+  // The counter sees malloc as well as operator new: vpServo's matrices, which this loop used
+  // to run, called malloc about 130 times per cycle.
+  GazeHarness head;
+  head.limits("left_eye_pan").max_position_rad = 20.0 * kDeg;
+  head.build();
+  const Eigen::Vector3d wide(1.2 * std::cos(50.0 * kDeg), 1.2 * std::sin(50.0 * kDeg), 1.40);
+  head.command(GazeAction::kFixate, GazeHarness::point(wide));
+  for (int i = 0; i < 1200; ++i) head.step(&wide);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, wide), 0.05);
+  EXPECT_GT(head.q_deg("neck_pan"), 25.0) << "the eye at its limit, the neck turned";
+
+  const Eigen::Vector3d ahead(1.1, -0.22, 1.40);
+  head.command(GazeAction::kSaccade, GazeHarness::point(ahead));
+  for (int i = 0; i < 300; ++i) head.step(&ahead);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kLeft, ahead), 0.05);
+
+  head.command(GazeAction::kPursue);
+  Eigen::Vector3d ball = ahead;
+  for (int i = 0; i < 300; ++i) {
+    ball.y() += 0.1 * kPeriodS;
+    head.step(&ball);
+  }
+  GazeTarget pixel;
+  pixel.kind = GazeTargetKind::kPixel;
+  pixel.pixel_px = {300.0, 200.0};
+  head.command(GazeAction::kFixate, pixel);
+  for (int i = 0; i < 200; ++i) head.step();
+  head.move("neck_tilt", 5.0);
+  head.step();
+  head.command(GazeAction::kSaccade, GazeHarness::point(Eigen::Vector3d(1e300, 0.0, 0.0)));
+  head.step();
+  head.command(GazeAction::kHold);
+  for (int i = 0; i < 10; ++i) head.step();
+
+  EXPECT_GT(head.loop().corrections(), 0u);
+  EXPECT_EQ(head.loop().rejected_commands(), 1u);
+  EXPECT_EQ(head.heap_use().allocations, 0u);
+  EXPECT_EQ(head.heap_use().frees, 0u);
 }
 
 }  // namespace

@@ -59,8 +59,8 @@ if(NOT behaviour_name STREQUAL "sweep" OR behaviour_failed OR
     "status '${behaviour_status}', failed ${behaviour_failed}, plugin '${behaviour_plugin}'")
 endif()
 
-# The outside project's compile lines: nothing of ViSP, and never C++17 (what cambio::control's
-# one ViSP file is compiled as) leaks through the installed targets.
+# The outside project's compile lines: nothing of ViSP, and never C++17 (what the servos' ViSP
+# reference, a target of the tests alone, is compiled as) leaks through the installed targets.
 file(READ ${WORK_DIR}/build/compile_commands.json compile_commands)
 if(compile_commands MATCHES "[Vv][Ii][Ss][Pp]" OR compile_commands MATCHES "-std=(c|gnu)\\+\\+17")
   message(FATAL_ERROR "the consumer's compile lines carry ViSP or C++17 flags:\n${compile_commands}")

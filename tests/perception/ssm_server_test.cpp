@@ -154,11 +154,12 @@ TEST(SsmServer, RefusesAndCountsPairsWhoseStampsDifferByMoreThanHalfACameraPerio
   EXPECT_EQ(rig.server.mismatched_pairs(), 2u);
 }
 
-/// Delivers a new frame only on the cycles listed (an eye that lags its partner).
+/// Delivers a new frame only on the cycles listed (an eye that lags its partner); says its grab()
+/// allocates when told to (as the sim's rendered cameras do).
 class IntermittentCamera final : public hal::Camera {
  public:
-  IntermittentCamera(std::string name, std::vector<bool> delivers)
-      : delivers_(std::move(delivers)) {
+  IntermittentCamera(std::string name, std::vector<bool> delivers, bool grab_allocates = false)
+      : delivers_(std::move(delivers)), grab_allocates_(grab_allocates) {
     info_.name = std::move(name);
     info_.intrinsics.width_px = 32;
     info_.intrinsics.height_px = 24;
@@ -166,6 +167,7 @@ class IntermittentCamera final : public hal::Camera {
     info_.rate_hz = 30.0;
   }
   const hal::CameraInfo& info() const override { return info_; }
+  bool grab_allocates() const override { return grab_allocates_; }
   hal::Status grab(hal::Image& out) override {
     const std::size_t cycle = calls_++;
     if (cycle >= delivers_.size() || !delivers_[cycle]) return hal::Status::kNoNewData;
@@ -177,6 +179,7 @@ class IntermittentCamera final : public hal::Camera {
  private:
   hal::CameraInfo info_;
   std::vector<bool> delivers_;
+  bool grab_allocates_;
   std::size_t calls_ = 0;
   std::uint64_t sequence_ = 0;
 };
@@ -200,6 +203,16 @@ TEST(CameraLoop, PublishesAPairOnlyOnceBothEyesDeliveredAndNeverMixesOldAndNew) 
   const std::vector<std::pair<std::uint64_t, std::uint64_t>> expected{{2, 1}, {3, 2}};
   EXPECT_EQ(published, expected);
   EXPECT_EQ(loop.pairs_published(), 2u);
+}
+
+TEST(CameraLoop, DeclaresItAllocatesWhenOneOfItsCamerasDoes) {
+  IntermittentCamera left("left", {});
+  IntermittentCamera right("right", {});
+  IntermittentCamera rendered("rendered", {}, /*grab_allocates=*/true);
+  EXPECT_FALSE(CameraLoop({&left, &right}, StereoPairIndices{0, 1}).allocates_in_update());
+  EXPECT_TRUE(CameraLoop({&left, &rendered}, StereoPairIndices{0, 1}).allocates_in_update());
+  EXPECT_TRUE(
+      CameraLoop({&left, &right, &rendered}, StereoPairIndices{0, 1}).allocates_in_update());
 }
 
 }  // namespace

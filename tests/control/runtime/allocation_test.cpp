@@ -1,10 +1,14 @@
 // The loop side never allocates after configure(): this runs a small but complete runtime (a
 // joint loop, a control loop, a camera loop and a perception loop exchanging data through the
-// latest-value channels) and counts every heap allocation its loops make.
+// latest-value channels) and counts every heap allocation its loops make. First, the counter
+// itself: C's allocation functions as well as operator new, each once, per thread.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
+#include <thread>
 
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/joint_group.hpp"
@@ -145,6 +149,67 @@ class AllocatingLoop final : public NamedLoop {
   bool declares_;
   std::vector<std::vector<int>> scratch_;
 };
+
+// Keeps the compiler from removing an allocation whose block is never read (it may drop a
+// malloc/free or new/delete pair otherwise).
+template <class T>
+T* escape(T* p) {
+  asm volatile("" : : "g"(p) : "memory");
+  return p;
+}
+
+TEST(AllocationCounter, CountsCAllocationFunctionsOnTheCallingThread) {
+  const std::uint64_t allocations = thread_allocation_count();
+  const std::uint64_t frees = thread_free_count();
+  void* a = escape(std::malloc(24));
+  void* b = escape(std::calloc(4, 16));
+  a = escape(std::realloc(a, 1 << 16));  // A new block, the old one freed.
+  void* c = escape(std::aligned_alloc(64, 128));
+  void* d = nullptr;
+  const int aligned = posix_memalign(&d, 64, 128);
+  escape(d);
+  const std::uint64_t allocated = thread_allocation_count() - allocations;
+  const std::uint64_t freed_by_realloc = thread_free_count() - frees;
+  for (void* p : {a, b, c, d}) std::free(p);
+  std::free(nullptr);  // Nothing returned to the heap.
+  const std::uint64_t freed = thread_free_count() - frees;
+
+  EXPECT_EQ(aligned, 0);
+  EXPECT_EQ(allocated, 5u) << "malloc, calloc, realloc, aligned_alloc, posix_memalign";
+  EXPECT_EQ(freed_by_realloc, 1u);
+  EXPECT_EQ(freed, 5u);
+}
+
+TEST(AllocationCounter, AnOperatorNewIsOneAllocation) {
+  const std::uint64_t allocations = thread_allocation_count();
+  const std::uint64_t frees = thread_free_count();
+  auto* block = escape(new std::array<char, 100>);
+  const std::uint64_t allocated = thread_allocation_count() - allocations;
+  delete block;
+  const std::uint64_t freed = thread_free_count() - frees;
+  EXPECT_EQ(allocated, 1u);
+  EXPECT_EQ(freed, 1u);
+}
+
+TEST(AllocationCounter, AnotherThreadsAllocationsAreItsOwn) {
+  constexpr int kBlocks = 100;
+  std::atomic<int> stage{0};  // 1: the worker may allocate; 2: it has.
+  std::uint64_t worker_allocations = 0;
+  std::thread worker([&] {
+    while (stage.load() != 1) std::this_thread::yield();
+    const std::uint64_t before = thread_allocation_count();
+    for (int i = 0; i < kBlocks; ++i) std::free(escape(std::malloc(32)));
+    worker_allocations = thread_allocation_count() - before;
+    stage.store(2);
+  });
+  const std::uint64_t before = thread_allocation_count();
+  stage.store(1);
+  while (stage.load() != 2) std::this_thread::yield();
+  const std::uint64_t here = thread_allocation_count() - before;
+  worker.join();
+  EXPECT_EQ(worker_allocations, static_cast<std::uint64_t>(kBlocks));
+  EXPECT_EQ(here, 0u) << "the worker's allocations counted on this thread";
+}
 
 LoopSchedule rate(double hz) {
   LoopSchedule loop;

@@ -1,6 +1,7 @@
 // Uses the installed libraries the way a user's driver or tool would: the HAL's types, the
 // config loader, the lockstep executor, the perception kernels, the sim backend's factory and the
-// gaze's fixation servo (whose ViSP stays private to cambio::control: this project never names it).
+// gaze's fixation servo (ViSP's law computed by cambio::control itself: this project never names
+// ViSP).
 #include <cstdio>
 #include <vector>
 

@@ -22,7 +22,7 @@
 namespace cambio::control {
 
 namespace detail {
-class ArmReachServoVisp;
+class ArmReachLaw;
 }
 
 /// Settings of the arm loop. No tuning defaults here: the experiment file's loader holds them.
@@ -56,16 +56,15 @@ struct ArmReachParams {
 ///    never ground truth). The arm (kNearest: the one whose shoulder is nearer; if it cannot, the
 ///    other) is checked with check_reach() at the command: out of reach, beyond a joint limit or
 ///    no fixation refuse it (ArmStatus::message says why, the arm's phase is kRefused) before
-///    anything moves. Then a position-based servo (ViSP, arm_reach_servo_visp.hpp) drives the
-///    fingertips' midpoint to approach_m in front of the target, then along a straight line to
-///    the target plus probe_depth_m, its speed
-///    gain x distance (slowing near the target), capped and ramped, every joint within its
-///    velocity and position limits, the joints drawn toward the check's solution as its secondary
-///    task. The
-///    servo runs on the commanded pose (the robot's intent): the drives' lag does not feed back
-///    into the law. When the arm's touch sensor reports contact the arm stops where it is
-///    believed to be (touch_ns recorded, phase kTouching) and the gripper closes; at the aim
-///    without a touch the phase is kArrived.
+///    anything moves. Then a position-based servo (ViSP's vpServo law, computed without
+///    allocating: control/src/arm_reach_law.hpp) drives the fingertips' midpoint to approach_m
+///    in front of the target, then along a straight line to the target plus probe_depth_m, its
+///    speed gain x distance (slowing near the target), capped and ramped, every joint within its
+///    velocity and position limits, the joints drawn toward the check's solution as its
+///    secondary task. The servo runs on the commanded pose (the robot's intent): the drives' lag
+///    does not feed back into the law. When the arm's touch sensor reports contact the arm stops
+///    where it is believed to be (touch_ns recorded, phase kTouching) and the gripper closes; at
+///    the aim without a touch the phase is kArrived.
 ///  - kGrasp closes, kRelease opens the gripper (kNearest: both arms); kHold stops a reach;
 ///    kMoveJoint moves one arm joint to a position (clamped to its limits) at half its velocity
 ///    limit, stopping that arm's reach.
@@ -73,9 +72,8 @@ struct ArmReachParams {
 /// stay at the initial pose: the gaze loop overlays the arms' joints onto its own frame) and an
 /// ArmStatus each cycle.
 ///
-/// Real-time: everything is allocated at construction except what ViSP allocates inside the
-/// servo's control law while reaching, so the loop declares allocates_in_update(). Idle, holding
-/// or touching, update() does not allocate.
+/// Real-time: everything is allocated at construction; update() never allocates, reaching or
+/// not.
 class ArmReachLoop final : public hal::Loop {
  public:
   /// `pose`: every rig joint's initial target, rig order. `gaze` (may be null) is read for
@@ -90,7 +88,6 @@ class ArmReachLoop final : public hal::Loop {
   ~ArmReachLoop() override;
 
   const std::string& name() const override { return name_; }
-  bool allocates_in_update() const override { return true; }
   hal::Status update(const hal::LoopTick& tick) noexcept override;
 
   /// Targets for every rig joint, rig order, each cycle.
@@ -150,7 +147,7 @@ class ArmReachLoop final : public hal::Loop {
   ArmReachParams params_;
   std::array<Arm, 2> arms_;
   std::vector<int> arm_rig_indices_;
-  std::unique_ptr<detail::ArmReachServoVisp> servo_;
+  std::unique_ptr<detail::ArmReachLaw> law_;
   Kinematics command_kinematics_;   // At the commanded pose: the servo's.
   Kinematics believed_kinematics_;  // At the encoders: the status's.
   std::vector<hal::JointLimits> limits_tree_;

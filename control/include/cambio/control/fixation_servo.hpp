@@ -37,9 +37,11 @@ struct FixationError {
   bool in_front = false;
 };
 
-/// Fixation of a target by the dominant eye with ViSP's vpServo: an image-based point feature
+/// Fixation of a target by the dominant eye with ViSP's vpServo law: an image-based point feature
 /// driven to the image centre over the head's neck pan, neck tilt, eye tilt and dominant eye pan
-/// ("the servoed joints", in that order in every 4-vector below).
+/// ("the servoed joints", in that order in every 4-vector below). The law is vpServo's, computed
+/// in fixed-size Eigen storage (control/src/visual_servo_law.hpp) so that it never allocates;
+/// tests/control/visual_servo_law_visp_test.cpp holds it to vpServo's own on random states.
 ///
 /// The law (vpServo::EYEINHAND_L_cVe_eJe, interaction matrix at the current feature): s = (x, y)
 /// the target projected through the believed kinematics into the dominant camera's optical
@@ -77,12 +79,11 @@ struct FixationError {
 /// the right way. Lens distortion is ignored (the pinhole intrinsics only): the sim has none,
 /// and a real lens's is small at the image centre where fixation ends.
 ///
-/// Lifecycle: the constructor allocates and may throw; velocity(), solve() and feature_jacobian()
-/// allocate (ViSP's vpMatrix temporaries, with malloc: about a hundred per velocity() call,
-/// unseen by runtime::thread_allocation_count()), never throw, and return kRejected for wrong
-/// sizes or a target at the camera centre. A loop calling them declares allocates_in_update().
-/// Cost on the shipped rig (bench/fixation_servo_bench): velocity() about 6 us, solve() about
-/// 0.5 ms. Not thread-safe: one loop owns an instance.
+/// Lifecycle: the constructor allocates and may throw; velocity(), solve(), feature_jacobian(),
+/// pixel_ray_W() and error() are real-time safe: no allocation, no exception; they return
+/// kRejected for wrong sizes or a target at the camera centre. Cost on the shipped rig
+/// (bench/fixation_servo_bench): velocity() about 2 us, solve() about 0.2 ms. Not thread-safe:
+/// one loop owns an instance.
 class FixationServo {
  public:
   static constexpr int kServoed = 4;
@@ -123,7 +124,8 @@ class FixationServo {
   /// Where target_W is in the dominant eye's image at q (all zero for a q of the wrong size).
   FixationError error(std::span<const double> q_tree_rad, const Eigen::Vector4d& target_W);
 
-  /// d(x, y)/d(servoed joints) at q: ViSP's point interaction matrix times eJe, unweighted.
+  /// d(x, y)/d(servoed joints) at q: the point's interaction matrix (vpFeaturePoint's) times
+  /// eJe, unweighted.
   [[nodiscard]] hal::Status feature_jacobian(std::span<const double> q_tree_rad,
                                              const Eigen::Vector4d& target_W,
                                              Eigen::Matrix<double, 2, kServoed>& J);

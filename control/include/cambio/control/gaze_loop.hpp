@@ -45,9 +45,9 @@ struct GazeLoopParams {
 };
 
 /// The head's control loop (the paper's Control Module for gaze), at the control rate:
-///  - fixation: the dominant eye brings a target to its image centre with ViSP's vpServo over the
-///    neck and eye joints, the 30° neck rule as its redundancy (FixationServo); the servo runs on
-///    the commanded pose (the robot's intent, the kinematics' camera Jacobian at it), so the
+///  - fixation: the dominant eye brings a target to its image centre with ViSP's vpServo law over
+///    the neck and eye joints, the 30° neck rule as its redundancy (FixationServo); the servo runs
+///    on the commanded pose (the robot's intent, the kinematics' camera Jacobian at it), so the
 ///    servo's own dynamics do not fight the drives' lag;
 ///  - vergence: the other eye's pan is the dominant eye's plus a vergence angle that each new
 ///    confident disparity measurement corrects (VergenceController). The angle is kept within
@@ -64,8 +64,7 @@ struct GazeLoopParams {
 /// Joints outside the head hold their initial pose, or follow the overlay (set_overlay()). The
 /// loop publishes targets for every rig joint and a GazeStatus each cycle.
 ///
-/// Real-time: everything is allocated at construction except what ViSP allocates inside the
-/// servo's control law, so the loop declares allocates_in_update().
+/// Real-time: everything is allocated at construction; update() never allocates.
 class GazeLoop final : public hal::Loop {
  public:
   /// `rig_joint_order`: the rig's joints in rig order (JointTargetFrame order); `pose` every
@@ -80,7 +79,6 @@ class GazeLoop final : public hal::Loop {
   ~GazeLoop() override;
 
   const std::string& name() const override { return name_; }
-  bool allocates_in_update() const override { return true; }
   void activate() override;
   hal::Status update(const hal::LoopTick& tick) noexcept override;
 

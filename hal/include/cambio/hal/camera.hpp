@@ -50,9 +50,14 @@ class Camera {
 
   /// Copies the newest frame into `out`, which must already have info()'s size and format
   /// (kRejected otherwise). Returns kNoNewData when no frame arrived since the last grab.
-  /// Real-time safe: no allocation, no blocking beyond the copy (the sim renders here, which
-  /// takes milliseconds of CPU; run it in its own loop at camera rate).
+  /// Real-time safe: no allocation (unless grab_allocates()), no blocking beyond the copy (the sim
+  /// renders here, which takes milliseconds of CPU; run it in its own loop at camera rate).
   virtual Status grab(Image& out) = 0;
+
+  /// True for a camera whose grab() uses the heap: the sim's, whose renderer (Mesa's llvmpipe,
+  /// behind libglvnd) calls malloc in every frame. A loop grabbing one says so
+  /// (Loop::allocates_in_update()); it is no camera for a real-time loop.
+  virtual bool grab_allocates() const { return false; }
 };
 
 }  // namespace cambio::hal

@@ -32,9 +32,11 @@ class Loop {
   virtual Status update(const LoopTick& tick) noexcept = 0;
   virtual void deactivate() noexcept {}
 
-  /// True for a loop whose update() must allocate (a ViSP control law allocates in every
-  /// vpServo::computeControlLaw). Executors still count and report its allocations but exempt
-  /// it from the zero-allocation gate. Every other loop must not allocate after configure().
+  /// True for a loop whose update() must allocate, which is then no real-time loop: a user's
+  /// behaviour, the evaluation's trace recorder, the camera loop grabbing the sim's rendered
+  /// cameras (Camera::grab_allocates). Executors still count and report its allocations but
+  /// exempt it from the zero-allocation gate. Every control loop must not allocate after
+  /// configure().
   virtual bool allocates_in_update() const { return false; }
 
   /// The last fault update() reported (empty if none). Read it from the loop's thread or after

@@ -22,7 +22,8 @@ struct StereoPairIndices {
 /// Grabs every camera at the camera loop's rate. The stereo pair's two images are published
 /// together as one hal::StereoFrame (a consumer never pairs a new left image with an old right
 /// one); every other camera on a channel of its own. Frames are allocated at construction;
-/// grabbing copies into them. Real-time safe after configure().
+/// grabbing copies into them. Real-time safe after configure() when its cameras are: a camera
+/// whose grab() allocates (hal::Camera::grab_allocates, the sim's) makes the loop declare it.
 class CameraLoop final : public hal::Loop {
  public:
   /// Allocates the channels, sized from the cameras' info (readers may attach at once). Throws
@@ -33,6 +34,8 @@ class CameraLoop final : public hal::Loop {
   /// Grabs one frame from each camera (discarded) so the backend's first-frame setup (contexts,
   /// shader compilation, buffer mapping) happens here, not in update().
   void configure() override;
+  /// True when one of its cameras' grab() allocates.
+  bool allocates_in_update() const override;
   /// kOk, or the most severe grab status. A pair is published once both eyes delivered a new
   /// image since the last pair.
   hal::Status update(const hal::LoopTick& tick) noexcept override;

@@ -61,39 +61,62 @@ if [[ ${#targets[@]} -eq 0 ]]; then
 fi
 
 mkdir -p "$build/artifacts" "$build/logs"
-failed=()
-summary=()
-for target in "${targets[@]}"; do
-  corpus=$build/corpus/$target
-  seeds=$build/seeds/$target
+
+# Fuzzes one target for the set time; its summary line goes to logs/<target>.result, then
+# " -- FAILED" and the sanitizer's findings when the target crashed.
+run_target() {
+  local target=$1 status=0
+  local corpus=$build/corpus/$target seeds=$build/seeds/$target log=$build/logs/$target.log
+  local result=$build/logs/$target.result
   rm -rf "$seeds"
   mkdir -p "$corpus" "$seeds"
   for seed in $(seeds_of "$target"); do cp "$seed" "$seeds/"; done
-  dict=()
+  local dict=()
   case $target in
     fuzz_rig | fuzz_scene | fuzz_experiment | fuzz_perception | fuzz_override)
       dict=(-dict="$dictionary") ;;
   esac
-  log=$build/logs/$target.log
-  echo "=== $target: ${seconds} s (log: $log)"
-  status=0
   # The corpus folder first: libFuzzer keeps the inputs that reach new code there, across runs.
   ASAN_OPTIONS=detect_leaks=1:leak_check_at_exit=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$build/bin/$target" "${fuzz_options[@]}" "${dict[@]}" -max_total_time="$seconds" \
     -artifact_prefix="$build/artifacts/$target-" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
-  runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -1)
-  rate=$(sed -nE 's/^stat::average_exec_per_sec: *([0-9]+)/\1/p' "$log" | tail -1)
-  cov=$(grep -oE 'cov: [0-9]+' "$log" | tail -1 | cut -d' ' -f2)
-  features=$(grep -oE 'ft: [0-9]+' "$log" | tail -1 | cut -d' ' -f2)
-  line="$target: ${runs:-?} runs, ${rate:-?} exec/s, cov ${cov:-?}, ft ${features:-?}"
-  if [[ $status -ne 0 ]]; then
-    line+=" -- FAILED (exit $status)"
-    failed+=("$target")
-    grep -E '^==[0-9]+==ERROR|^SUMMARY|runtime error|fuzz: a config|out-of-memory|Test unit written' \
-      "$log" | head -20 || true
+  # A target that crashed at once prints no statistics: those stay "?".
+  local runs rate cov features
+  runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -1 || true)
+  rate=$(sed -nE 's/^stat::average_exec_per_sec: *([0-9]+)/\1/p' "$log" | tail -1 || true)
+  cov=$(grep -oE 'cov: [0-9]+' "$log" | tail -1 | cut -d' ' -f2 || true)
+  features=$(grep -oE 'ft: [0-9]+' "$log" | tail -1 | cut -d' ' -f2 || true)
+  local line="$target: ${runs:-?} runs, ${rate:-?} exec/s, cov ${cov:-?}, ft ${features:-?}"
+  [[ $status -eq 0 ]] || line+=" -- FAILED (exit $status)"
+  {
+    echo "$line"
+    if [[ $status -ne 0 ]]; then
+      grep -E '^==[0-9]+==ERROR|^SUMMARY|runtime error|fuzz: a config|out-of-memory|Test unit written' \
+        "$log" | head -20 || true
+    fi
+  } >"$result"
+}
+
+# libFuzzer runs one process per target: as many targets at once as there are build jobs, so
+# every target still gets its full time on a core.
+for target in "${targets[@]}"; do
+  while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n || true; done
+  echo "=== $target: ${seconds} s (log: $build/logs/$target.log)"
+  run_target "$target" &
+done
+wait
+
+failed=()
+summary=()
+for target in "${targets[@]}"; do
+  result=$build/logs/$target.result
+  if [[ ! -s $result ]]; then
+    echo "$target: no result -- FAILED" >"$result"
   fi
-  echo "$line"
+  cat "$result"
+  line=$(head -1 "$result")
   summary+=("$line")
+  [[ $line == *FAILED* ]] && failed+=("$target")
 done
 
 echo

@@ -98,7 +98,9 @@ run_target() {
 }
 
 # libFuzzer runs one process per target: as many targets at once as there are build jobs, so
-# every target still gets its full time on a core.
+# every target still gets its full time on a core. An earlier run's results must not stand in
+# for a target that dies before writing its own.
+rm -f "$build"/logs/*.result
 for target in "${targets[@]}"; do
   while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n || true; done
   echo "=== $target: ${seconds} s (log: $build/logs/$target.log)"

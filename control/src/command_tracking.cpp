@@ -28,14 +28,28 @@ CommandTracking::Step CommandTracking::step(const BelievedJoints& believed) noex
     follows = follows && joint.rig < believed.rig_joint_count() && believed.driven(joint.rig);
   }
   if (!follows) {
+    if (!frozen_) {
+      frozen_run_cycles_ = 0;
+      drive_lost_ = false;
+    }
     frozen_ = true;
+    ++frozen_run_cycles_;
     ++frozen_cycles_;
+    for (const Joint& joint : joints_) {
+      drive_lost_ =
+          drive_lost_ || joint.rig >= believed.rig_joint_count() || !believed.enabled(joint.rig);
+    }
     return Step::kFrozen;
   }
   if (frozen_) {
     frozen_ = false;
-    ++restarts_;
-    return Step::kRestart;
+    // A brief hold (a late answer on a loaded bus) with every drive still enabled left the joints
+    // where the command had them going: resuming keeps the servo's lead, which restarting from the
+    // measured pose would throw away at every such hold (the gaze then never converges).
+    if (drive_lost_ || frozen_run_cycles_ > kBriefHoldCycles) {
+      ++restarts_;
+      return Step::kRestart;
+    }
   }
   return Step::kFollow;
 }

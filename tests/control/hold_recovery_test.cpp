@@ -24,6 +24,8 @@
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/control/arm_reach_loop.hpp"
+#include "cambio/control/believed_joints.hpp"
+#include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/control/kinematics.hpp"
@@ -597,6 +599,45 @@ TEST(HoldRecovery, APoseHoldFreezesWhileHeldThenGoesBackToItsPoseFromWhereTheJoi
   EXPECT_EQ(rig.pose_hold().fault_count(), 0u);
   EXPECT_EQ(rig.pose_hold().tracking().restarts(), 1u);
   EXPECT_EQ(rig.heap_use().allocations, 0u);
+}
+
+}  // namespace
+}  // namespace cambio::control
+
+namespace cambio::control {
+namespace {
+
+// The guard itself, on frames written by hand: a brief stale hold with the drives enabled (late
+// feedback on a loaded bus) resumes from the command, keeping the servo's lead; a longer hold, or
+// one during which a drive was not enabled, restarts from the measured pose.
+TEST(CommandTrackingGuard, ABriefStaleHoldResumesALongOneOrALostDriveRestarts) {
+  hal::SeqlockChannel<JointStateFrame> states;
+  BelievedJoints believed({{&states, {0}}}, 1);
+  CommandTracking tracking("gaze", {{"left_eye_pan", 0, 0, 0.3}});
+  std::array<double, 1> q{};
+  const auto step = [&](bool holding, std::uint32_t bits) {
+    JointStateFrame frame;
+    frame.count = 1;
+    frame.holding = holding;
+    frame.states[0].status_bits = bits;
+    states.write(frame);
+    believed.read(q);
+    return tracking.step(believed);
+  };
+  using Step = CommandTracking::Step;
+  ASSERT_EQ(step(false, 0), Step::kFollow);
+  for (int i = 0; i < 2; ++i) EXPECT_EQ(step(true, hal::kJointStale), Step::kFrozen);
+  EXPECT_EQ(step(false, 0), Step::kFollow) << "a 2-cycle stale hold";
+  EXPECT_EQ(tracking.restarts(), 0u);
+
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(step(true, hal::kJointStale), Step::kFrozen);
+  EXPECT_EQ(step(false, 0), Step::kRestart) << "a 20-cycle stale hold";
+
+  EXPECT_EQ(step(true, hal::kJointStale), Step::kFrozen);
+  EXPECT_EQ(step(true, hal::kJointNotEnabled), Step::kFrozen);
+  EXPECT_EQ(step(false, 0), Step::kRestart) << "a brief hold during which the drive was disabled";
+  EXPECT_EQ(tracking.restarts(), 2u);
+  EXPECT_EQ(tracking.frozen_cycles(), 24u);
 }
 
 }  // namespace

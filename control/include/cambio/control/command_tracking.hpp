@@ -33,7 +33,9 @@ struct TrackingReport {
 ///  - kFrozen while a joint loop holds or one of its joints is not driven: it publishes its
 ///    command unchanged and integrates nothing (no servo, no profile time, no vergence);
 ///  - kRestart on the first cycle they follow again: restart() sets the command to the measured
-///    pose, which it publishes unmoved; its motion resumes from there the next cycle;
+///    pose, which it publishes unmoved; its motion resumes from there the next cycle. After a
+///    brief hold (at most kBriefHoldCycles, every drive enabled throughout) it resumes instead
+///    (kFollow): the joints are where the command had them going;
 ///  - kFollow otherwise: it steps, then check() bounds |command - measured| per joint: the first
 ///    joint beyond its max_error_rad latches a tracking fault (a drive that does not follow while
 ///    nothing says so: a slow or blocked drive, a brake left on);
@@ -80,7 +82,11 @@ class CommandTracking {
   std::string controller_;
   std::vector<Joint> joints_;
   std::vector<std::uint8_t> bounded_;
+  /// Holds this short with the drives enabled are late feedback, not a loss of the robot.
+  static constexpr std::uint64_t kBriefHoldCycles = 5;
   bool frozen_ = false;
+  bool drive_lost_ = false;  ///< A joint was not driven (disabled, faulted) during this freeze.
+  std::uint64_t frozen_run_cycles_ = 0;
   bool faulted_ = false;
   std::uint64_t frozen_cycles_ = 0;
   std::uint64_t restarts_ = 0;

@@ -166,11 +166,6 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
   }
 
   (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
-  const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
-  if (new_summary) {
-    last_summary_sequence_ = summary_.sequence;
-    ++measurements_;
-  }
   status_.joints_held = tracking == CommandTracking::Step::kFrozen;
   switch (tracking) {
     case CommandTracking::Step::kFollow:
@@ -190,6 +185,16 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
       write_targets(now_ns);
       publish(now_ns);
       return hal::Status::kFault;
+  }
+
+  // A measurement is taken on a cycle the controller follows: one that arrives while it is frozen
+  // waits for it. (Over a loaded CAN bus the holds come right after a camera frame's render, just
+  // when the SSM's result lands: consumed there, every measurement was lost and the eyes never
+  // verged.)
+  const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
+  if (new_summary) {
+    last_summary_sequence_ = summary_.sequence;
+    ++measurements_;
   }
 
   switch (mode_) {

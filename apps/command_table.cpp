@@ -17,6 +17,7 @@ int run_virtual_rig_command(std::span<const std::string> args);
 int run_can_bench_command(std::span<const std::string> args);
 int run_gaze_bench_command(std::span<const std::string> args);
 int run_eds_command(std::span<const std::string> args);
+int run_calibrate_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
@@ -39,6 +40,8 @@ std::span<const Command> all_commands() {
               &run_virtual_rig_command},
       Command{"eds", "check a vendor drive's EDS against a rig's CAN joint group (eds check)",
               &run_eds_command},
+      Command{"calibrate", "a stereo pair's intrinsics, distortion and pose from chessboard views",
+              &run_calibrate_command},
       Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",
               &run_can_bench_command},
       Command{"gaze-bench", "score the gaze behaviour on generated scenes against the sim's truth",

@@ -13,6 +13,8 @@
 #include "cambio/config/scene_config.hpp"
 #include "cambio/config/shipped_config.hpp"
 #include "cambio/sim/sim_backend.hpp"
+#include "cambio/v4l2/v4l2_backend.hpp"
+#include "cambio/v4l2/v4l2_rig_from_config.hpp"
 
 namespace cambio::app {
 namespace {
@@ -54,6 +56,7 @@ void register_builtin_backends(hal::BackendFactory& factory,
     scene.name = "empty";
   }
   sim::register_sim_backend(factory, experiment.rig, std::move(scene));
+  v4l2::register_v4l2_backend(factory, v4l2::v4l2_rig_from_config(experiment.rig));
 
   canopen::SocketCanBackendOptions options;
   if (const config::LoopConfig* joint_loop = experiment.rig.find_loop("joint")) {

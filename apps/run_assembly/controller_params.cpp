@@ -72,6 +72,19 @@ control::GazeAction gaze_action(config::GazeAction action) {
   return control::GazeAction::kHold;
 }
 
+std::vector<double> max_tracking_errors_rad(const config::RigConfig& rig,
+                                            const hal::HardwareInfo& hardware) {
+  std::vector<double> limits;
+  for (const auto& joint : hardware.joints) {
+    const config::JointConfig* config = rig.find_joint(joint.name);
+    if (config == nullptr) {
+      throw std::runtime_error("the rig describes no joint '" + joint.name + "'");
+    }
+    limits.push_back(config->max_tracking_error_rad);
+  }
+  return limits;
+}
+
 control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
                                          const hal::HardwareInfo& hardware) {
   if (!hardware.stereo) throw std::runtime_error("the gaze task needs a stereo rig");
@@ -95,10 +108,12 @@ control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experim
   params.predictive_vergence = gaze.saccade.predictive_vergence;
   params.pursuit_gain_per_s = gaze.pursuit.position_gain_per_s;
   params.pursuit_lead = gaze.pursuit.velocity_gain;
+  params.max_tracking_error_rad = max_tracking_errors_rad(experiment.rig, hardware);
   return params;
 }
 
 control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
+                                         const hal::HardwareInfo& hardware,
                                          std::array<std::string, 2> groups) {
   const config::ArmTaskConfig& arm = experiment.arm;
   control::ArmReachParams params;
@@ -111,6 +126,7 @@ control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experim
   params.arrive_tolerance_m = arm.arrive_tolerance_m;
   params.posture_gain_per_s = arm.posture_gain_per_s;
   params.gripper_speed_rad_s = arm.gripper_speed_rad_s;
+  params.max_tracking_error_rad = max_tracking_errors_rad(experiment.rig, hardware);
   return params;
 }
 

@@ -24,14 +24,21 @@ runtime::LoopSchedule loop_schedule(const config::RigConfig& rig, const std::str
 /// The joint loop's watchdogs from the rig's `loops.joint`.
 control::JointLoopParams joint_loop_params(const config::RigConfig& rig);
 
+/// Each joint's `max_tracking_error` from the rig, in hardware.joints order (the controllers'
+/// CommandTracking limits). Throws std::runtime_error for a joint the rig does not describe.
+std::vector<double> max_tracking_errors_rad(const config::RigConfig& rig,
+                                            const hal::HardwareInfo& hardware);
+
 /// The gaze loop of a `task: gaze` experiment: its `gaze:` settings, the verging camera's focal
-/// length. Throws std::runtime_error if the rig has no stereo pair.
+/// length, the joints' tracking limits. Throws std::runtime_error if the rig has no stereo pair.
 control::GazeLoopParams gaze_loop_params(const config::ExperimentConfig& experiment,
                                          const hal::HardwareInfo& hardware);
 
 /// The arm loop of a `task: gaze` experiment on a rig with arms: its `arm:` settings, the arms'
-/// groups ([0] left, [1] right; "" for none). The fingers come with each arm's chain.
+/// groups ([0] left, [1] right; "" for none), the joints' tracking limits. The fingers come with
+/// each arm's chain.
 control::ArmReachParams arm_reach_params(const config::ExperimentConfig& experiment,
+                                         const hal::HardwareInfo& hardware,
                                          std::array<std::string, 2> groups);
 
 /// The config's name for a gaze action as the gaze loop's (the same enumerators).

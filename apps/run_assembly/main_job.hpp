@@ -18,6 +18,7 @@
 #include "cambio/control/command_script.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
+#include "cambio/control/pose_hold_loop.hpp"
 #include "cambio/control/rig_hold.hpp"
 #include "cambio/hal/backend_factory.hpp"
 #include "cambio/hal/hardware_info.hpp"
@@ -187,7 +188,8 @@ class MainJob {
   control::RigHold rig_hold_;                               // Outlives the joint loops.
   std::vector<JointLoopSlot> joint_loops_;
   std::unique_ptr<hal::Loop> control_loop_;
-  control::GazeLoop* gaze_loop_ = nullptr;  // control_loop_ when the task is gaze.
+  control::GazeLoop* gaze_loop_ = nullptr;      // control_loop_ when the task is gaze.
+  control::PoseHoldLoop* pose_hold_ = nullptr;  // control_loop_ otherwise.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
   hal::SeqlockChannel<perception::FeatureRequest> feature_requests_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed commands.

@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 
-#include "cambio/control/pose_hold_loop.hpp"
 #include "controller_params.hpp"
 
 // MainJob's control loops: the gaze loop with the script and the arms when the task is gaze,
@@ -14,7 +13,11 @@ void MainJob::build_control_loop(const control::JointTargetFrame& pose) {
   if (experiment_.task == config::ControlTask::kGaze) {
     build_gaze_loop(pose);
   } else {
-    control_loop_ = std::make_unique<control::PoseHoldLoop>(pose, targets_);
+    auto loop = std::make_unique<control::PoseHoldLoop>(
+        hardware_, pose, make_believed_joints(),
+        max_tracking_errors_rad(experiment_.rig, hardware_), targets_);
+    pose_hold_ = loop.get();
+    control_loop_ = std::move(loop);
   }
   executor_->add_loop({control_loop_.get(), loop_schedule(experiment_.rig, "control")});
 }
@@ -47,7 +50,7 @@ void MainJob::build_arm_loop(const control::JointTargetFrame& pose,
                              std::vector<control::BelievedJoints::Source> sources) {
   if (arm_groups_[0].empty() && arm_groups_[1].empty()) return;
   arm_loop_ = std::make_unique<control::ArmReachLoop>(
-      hardware_, arm_reach_params(experiment_, arm_groups_), pose,
+      hardware_, arm_reach_params(experiment_, hardware_, arm_groups_), pose,
       control::BelievedJoints(std::move(sources), static_cast<int>(joint_order_.size())),
       &gaze_loop_->status(), arm_commands_,
       std::array<hal::TouchSensor*, 2>{touch_sensors_[0].get(), touch_sensors_[1].get()});

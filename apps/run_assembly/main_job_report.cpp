@@ -1,6 +1,7 @@
 #include "main_job.hpp"
 
 #include "cambio/canopen/can_joint_group.hpp"
+#include "cambio/hal/camera_faults.hpp"
 #include "cambio/sim/rendered_views.hpp"
 
 // What MainJob reports after a run: the loops' counters and last statuses (MainJobResult) and
@@ -17,7 +18,7 @@ std::vector<CanGroupReport> can_group_reports(const hal::HardwareInfo& hardware,
   for (const auto& group : hardware.groups) {
     for (const canopen::CanJointGroup* can_group : can_groups) {
       if (can_group->info().name == group.name) {
-        reports.push_back({group.name, can_group->counters()});
+        reports.push_back({group.name, can_group->counters(), can_group->homing_records()});
       }
     }
   }
@@ -39,6 +40,15 @@ void MainJob::collect(MainJobResult& result) {
     control::JointStateFrame states;
     if (joint_loop.states->read(states)) result.fault_latched_at_end |= states.fault_latched;
   }
+  for (const hal::CameraFaults* cameras : offers_.all<const hal::CameraFaults>()) {
+    for (std::string& fault : cameras->camera_faults()) {
+      result.camera_faults.push_back(std::move(fault));
+    }
+  }
+  result.fault_latched_at_end |= !result.camera_faults.empty();
+  if (gaze_loop_ != nullptr) result.tracking.push_back(gaze_loop_->tracking().report());
+  if (arm_loop_) result.tracking.push_back(arm_loop_->tracking().report());
+  if (pose_hold_ != nullptr) result.tracking.push_back(pose_hold_->tracking().report());
   if (perception_loop_) {
     result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
     perception::SsmSummary summary;

@@ -8,6 +8,7 @@
 
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/control/arm_reach_loop.hpp"
+#include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/perception/ssm_server.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
@@ -19,6 +20,7 @@ namespace cambio::app {
 struct CanGroupReport {
   std::string group;
   canopen::CanGroupCounters counters;
+  std::vector<canopen::HomingRecord> homing;  ///< The joints that homed at activate.
 };
 
 /// What the experiment's behaviour did (MainJobResult::behaviour).
@@ -44,6 +46,19 @@ struct MainJobResult {
   std::uint64_t fault_hold_cycles = 0;    ///< Joint loop held: fault latched or feedback stale.
   std::uint64_t fault_recoveries = 0;     ///< Fault resets asked by experiment.fault_recovery.
   bool fault_latched_at_end = false;
+  /// Cameras that failed during the run (unplugged), one sentence each; they count as a fault
+  /// latched at the end.
+  std::vector<std::string> camera_faults;
+  /// Each controller's tracking of its joints (gaze, arm or pose hold): frozen cycles, restarts,
+  /// the largest command lead, a tracking fault.
+  std::vector<control::TrackingReport> tracking;
+  /// A controller latched a tracking fault: its joints stopped following, it held since.
+  bool tracking_fault() const {
+    for (const auto& report : tracking) {
+      if (report.faulted) return true;
+    }
+    return false;
+  }
   bool stopped_by_signal = false;
   double simulated_s = 0.0;
   double wall_s = 0.0;

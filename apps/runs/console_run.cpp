@@ -69,7 +69,7 @@ void print_console_start(const config::ExperimentConfig& experiment, const MainJ
 }
 
 /// The loops' statistics and what the session refused; the exit status: a signal over a device
-/// fault over refused input.
+/// fault over a controller's tracking fault over refused input.
 int report_console_end(const MainJobResult& result, const ConsoleSession& session,
                        const LineSource& lines) {
   std::cout << runtime::format_statistics_table(result.loops.data(), result.loops.size());
@@ -78,6 +78,11 @@ int report_console_end(const MainJobResult& result, const ConsoleSession& sessio
   if (result.stopped_by_signal) return exit_status_for_signal(stop_signal_number());
   if (result.fault_latched_at_end) {
     std::cerr << "cambio console: a device fault stopped the robot (joints held since)\n";
+    return kExitDeviceFault;
+  }
+  for (const auto& report : result.tracking) {
+    if (!report.faulted) continue;
+    std::cerr << "cambio console: " << report.fault << " (held since)\n";
     return kExitDeviceFault;
   }
   return lines.input_refused() ? kExitBadInput : kExitOk;

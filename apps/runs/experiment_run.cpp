@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "builtin_backends.hpp"
 #include "command.hpp"
@@ -97,7 +98,14 @@ int run_experiment(const config::ExperimentConfig& experiment, can::CanTrafficLo
   if (stop.load()) return report_stopped_while_starting();
 
   print_run_start(experiment, *job);
-  const MainJobResult result = run_with_progress(*job, experiment, stop);
+  MainJobResult result;
+  try {
+    result = run_with_progress(*job, experiment, stop);
+  } catch (const std::runtime_error& error) {
+    // Starting the devices failed (a joint's homing at activate): nothing ran.
+    std::cerr << "\ncambio run: " << error.what() << "\n";
+    return kExitDeviceFault;
+  }
   print_run_report(result);
   std::optional<RunEvaluation> evaluation;
   if (const Trace* trace = job->trace()) {

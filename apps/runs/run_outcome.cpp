@@ -21,6 +21,9 @@ RunOutcome outcome_of(const MainJobResult& result, bool goal_failed, bool script
     return {"interrupted", exit_status_for_signal(signal_number), stop_signal_name(signal_number)};
   }
   if (result.fault_latched_at_end) return {"device_fault", kExitDeviceFault, ""};
+  // A joint that stopped following its command while its drive said nothing: the controller
+  // holding it held since, as after a device fault.
+  if (result.tracking_fault()) return {"tracking_fault", kExitDeviceFault, ""};
   // A behaviour that threw stopped itself and the robot held: the run did not do its task.
   if (result.behaviour && result.behaviour->failed) return {"behaviour_failed", kExitFailure, ""};
   if (goal_failed) return {"goal_failed", kExitFailure, ""};
@@ -47,7 +50,14 @@ void report_early_end(const RunOutcome& outcome, const MainJobResult& result, do
     std::cerr << "cambio run: interrupted by " << outcome.signal_name << " at "
               << result.simulated_s << " of " << duration_s << " s\n";
   } else if (outcome.name == "device_fault") {
+    for (const std::string& fault : result.camera_faults) {
+      std::cerr << "cambio run: " << fault << "\n";
+    }
     std::cerr << "cambio run: a device fault stopped the run (joints held since)\n";
+  } else if (outcome.name == "tracking_fault") {
+    for (const auto& report : result.tracking) {
+      if (report.faulted) std::cerr << "cambio run: " << report.fault << " (held since)\n";
+    }
   }
 }
 

@@ -25,9 +25,21 @@ void print_device_counts(const MainJobResult& result) {
               << c.late_tpdos << " late TPDOs, " << c.emergencies << " EMCY, " << c.error_frames
               << " error frames, " << c.tx_queue_full << " frames refused by a full queue, "
               << c.malformed_frames + c.unexpected_frames << " malformed/unexpected frames\n";
+    for (const auto& homed : report.homing) {
+      std::cout << "  homing: joint " << homed.joint << " (node " << homed.node_id << ", method "
+                << homed.method << ") homed in " << homed.duration_s << " s\n";
+    }
   }
   if (result.fault_latched_at_end) {
     std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
+  }
+  for (const auto& report : result.tracking) {
+    std::cout << "tracking (" << report.controller << "): largest command lead "
+              << report.peak_error_rad << " rad"
+              << (report.peak_joint.empty() ? "" : " (" + report.peak_joint + ")") << ", frozen "
+              << report.frozen_cycles << " cycles, " << report.restarts
+              << " restart(s) from the measured pose"
+              << (report.faulted ? "; FAULT: " + report.fault : "") << "\n";
   }
 }
 

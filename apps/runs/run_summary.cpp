@@ -1,5 +1,6 @@
 #include "run_summary.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "peak_rss.hpp"
@@ -16,6 +17,24 @@ Json joint_loop_json(const MainJobResult& result) {
           {"watchdog_hold_cycles", result.watchdog_cycles},
           {"fault_hold_cycles", result.fault_hold_cycles},
           {"fault_latched_at_end", result.fault_latched_at_end}};
+}
+
+/// Each controller's tracking of its joints: how long it froze while they held, its restarts
+/// from the measured pose, the largest lead of its command (and the joint's limit), a fault.
+Json tracking_json(const MainJobResult& result) {
+  Json controllers = Json::object();
+  for (const auto& report : result.tracking) {
+    controllers[report.controller] = {
+        {"frozen_cycles", report.frozen_cycles},
+        {"restarts", report.restarts},
+        {"peak_error_rad", report.peak_error_rad},
+        {"peak_joint", report.peak_joint.empty() ? Json(nullptr) : Json(report.peak_joint)},
+        {"peak_joint_limit_rad", std::isfinite(report.peak_joint_limit_rad)
+                                     ? Json(report.peak_joint_limit_rad)
+                                     : Json(nullptr)},
+        {"fault", report.faulted ? Json(report.fault) : Json(nullptr)}};
+  }
+  return controllers;
 }
 
 Json perception_json(const perception::SsmSummary& perception) {
@@ -116,6 +135,15 @@ void add_execution_fields(Json& json, const MainJobResult& result) {
   for (const auto& loop : result.loops) json["loops"].push_back(runtime::statistics_json(loop));
   for (const auto& report : result.can_groups) {
     json["can_groups"][report.group] = can_group_json(report.counters);
+    // Each joint that homed at activate: how long it took, the statuswords it went through.
+    Json homing = Json::object();
+    for (const auto& homed : report.homing) {
+      homing[homed.joint] = {{"node_id", homed.node_id},
+                             {"method", homed.method},
+                             {"duration_s", homed.duration_s},
+                             {"statuswords", homed.statuswords}};
+    }
+    json["can_groups"][report.group]["homing"] = homing;
   }
   if (result.renderer) {
     add_renderer_fields(json["renderer"], *result.renderer);
@@ -152,6 +180,7 @@ Json summary_json(const config::ExperimentConfig& experiment, const MainJobResul
   json["stereo_pairs"] = result.stereo_pairs;
   json["mismatched_stereo_pairs"] = result.mismatched_stereo_pairs;
   json["joint_loop"] = joint_loop_json(result);
+  json["tracking"] = tracking_json(result);
   if (result.perception) json["perception"] = perception_json(*result.perception);
   if (result.gaze) json["gaze"] = gaze_json(result);
   if (result.behaviour) json["behaviour"] = behaviour_json(*result.behaviour);

@@ -63,6 +63,27 @@ ArmReachLoop::ArmReachLoop(const hal::HardwareInfo& hardware, const ArmReachPara
     arm_rig_indices_.insert(arm_rig_indices_.end(), arm.chain.rig.begin(), arm.chain.rig.end());
   }
   if (arm_rig_indices_.empty()) throw std::invalid_argument("arm loop: no arm group given");
+  const auto& max_error = params.max_tracking_error_rad;
+  if (!max_error.empty() && max_error.size() != hardware.joints.size()) {
+    throw std::invalid_argument("arm loop: " + std::to_string(max_error.size()) +
+                                " tracking error limits for " +
+                                std::to_string(hardware.joints.size()) + " joints");
+  }
+  std::vector<CommandTracking::Joint> tracked;
+  for (std::size_t side = 0; side < 2; ++side) {
+    const Arm& arm = arms_[side];
+    if (!arm.present) continue;
+    for (std::size_t k = 0; k < 5; ++k) {
+      CommandTracking::Joint joint;
+      joint.name = arm.chain.names[k];
+      joint.rig = arm.chain.rig[k];
+      joint.index = arm.chain.joints[k];
+      if (!max_error.empty()) joint.max_error_rad = max_error[at(joint.index)];
+      if (k == 4) gripper_tracked_[side] = static_cast<int>(tracked.size());
+      tracked.push_back(std::move(joint));
+    }
+  }
+  tracking_ = CommandTracking(name_, std::move(tracked));
   law_ = std::make_unique<detail::ArmReachLaw>(params.gain_per_s);
   for (const auto& joint : hardware.joints) limits_tree_.push_back(joint.limits);
   rig_to_tree_.assign(command_kinematics_.rig_to_tree().begin(),
@@ -97,13 +118,49 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
     q_believed_tree_[at(rig_to_tree_[i])] = q_believed_rig_[i];
   }
   (void)believed_kinematics_.update(q_believed_tree_);
+  const CommandTracking::Step tracking = tracking_.step(believed_);
   ArmCommand command;
   if (commands_.read(command) && command.sequence != 0 &&
       command.sequence != last_command_sequence_) {
     last_command_sequence_ = command.sequence;
     apply(command, now_ns);
   }
+  status_.joints_held = tracking == CommandTracking::Step::kFrozen;
+  switch (tracking) {
+    case CommandTracking::Step::kFollow:
+      break;
+    case CommandTracking::Step::kFrozen:
+      // The drives do not follow: what is commanded stays as it was, so nothing winds up.
+      publish(now_ns);
+      return hal::Status::kOk;
+    case CommandTracking::Step::kRestart:
+      // The first command after a hold is where the joints are; motion resumes next cycle.
+      restart_from_measured(now_ns);
+      publish(now_ns);
+      return hal::Status::kOk;
+    case CommandTracking::Step::kFaulted:
+      publish(now_ns);
+      return hal::Status::kFault;
+  }
+  step_arms(now_ns, dt_s);
+  for (std::size_t side = 0; side < 2; ++side) {
+    if (gripper_tracked_[side] < 0) continue;
+    // Closing, the fingers stop on what they hold while the command goes on: that lag is the
+    // grasp, not a fault.
+    const Arm& arm = arms_[side];
+    tracking_.set_bounded(at(gripper_tracked_[side]),
+                          arm.gripper_goal_rad > arm.chain.limits[4].min_position_rad);
+  }
+  if (tracking_.check(q_command_tree_, q_believed_tree_)) {
+    stop_on_tracking_fault();
+    publish(now_ns);
+    return report_fault(tracking_.fault_message());
+  }
+  publish(now_ns);
+  return hal::Status::kOk;
+}
 
+void ArmReachLoop::step_arms(std::int64_t now_ns, double dt_s) noexcept {
   for (int side = 0; side < 2; ++side) {
     Arm& arm = arms_[at(side)];
     if (!arm.present) continue;
@@ -118,13 +175,21 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
       if (q == arm.move_goal_rad) arm.move_joint = -1;
     }
     if (s.phase == ReachPhase::kReaching) reach_step(side, now_ns, dt_s);
+  }
+}
+
+void ArmReachLoop::publish(std::int64_t now_ns) noexcept {
+  for (int side = 0; side < 2; ++side) {
+    const Arm& arm = arms_[at(side)];
+    if (!arm.present) continue;
+    ArmStatus::Arm& s = status_.arms[at(side)];
+    const double opening = q_command_tree_[at(arm.chain.joints[4])];
     s.gripper_closed = arm.gripper_goal_rad <= arm.chain.limits[4].min_position_rad &&
                        opening <= arm.chain.limits[4].min_position_rad;
     const Eigen::Vector3d tip = tip_W(believed_kinematics_, arm);
     for (int i = 0; i < 3; ++i) s.gripper_W_m[at(i)] = tip[i];
     s.distance_to_target_m = s.command_ns != 0 ? (tip - arm.target_W).norm() : 0.0;
   }
-
   for (int i = 0; i < pose_.count; ++i) {
     pose_.commands[at(i)].value = q_command_tree_[at(rig_to_tree_[at(i)])];
   }
@@ -132,10 +197,30 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
   targets_.write(pose_);
   status_.stamp_ns = now_ns;
   status_channel_.write(status_);
-  return hal::Status::kOk;
+}
+
+void ArmReachLoop::restart_from_measured(std::int64_t now_ns) noexcept {
+  tracking_.restart(q_command_tree_, q_believed_tree_);
+  for (Arm& arm : arms_) arm.ramp_from_ns = now_ns;
+}
+
+void ArmReachLoop::stop_on_tracking_fault() noexcept {
+  tracking_.restart(q_command_tree_, q_believed_tree_);
+  for (int side = 0; side < 2; ++side) {
+    Arm& arm = arms_[at(side)];
+    if (!arm.present) continue;
+    stop(side);
+    arm.gripper_goal_rad = q_command_tree_[at(arm.chain.joints[4])];
+  }
+  status_.tracking_fault = true;
 }
 
 void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcept {
+  if (tracking_.faulted()) {
+    std::snprintf(status_.message.data(), status_.message.size(),
+                  "an arm joint does not follow its command (tracking fault): the arms hold");
+    return;
+  }
   ++status_.commands_applied;
   // The sides a command names; kNearest is both, except for a reach (decided in reach()).
   const bool left = command.arm != ArmSide::kRight && arms_[0].present;
@@ -163,9 +248,16 @@ void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcep
 void ArmReachLoop::set_gripper_goals(ArmAction action, const std::array<bool, 2>& sides) noexcept {
   for (int side = 0; side < 2; ++side) {
     if (!sides[at(side)]) continue;
-    const hal::JointLimits& limits = arms_[at(side)].chain.limits[4];
+    const ArmChain& chain = arms_[at(side)].chain;
+    const hal::JointLimits& limits = chain.limits[4];
     arms_[at(side)].gripper_goal_rad =
         action == ArmAction::kGrasp ? limits.min_position_rad : limits.max_position_rad;
+    if (action == ArmAction::kRelease) {
+      // Fingers closed on something stand open by its width while the command went on closing:
+      // opening starts where they are, not from the command's far side of it.
+      double& opening = q_command_tree_[at(chain.joints[4])];
+      opening = std::max(opening, q_believed_tree_[at(chain.joints[4])]);
+    }
   }
 }
 
@@ -305,6 +397,7 @@ bool ArmReachLoop::start_reach(int side, const Eigen::Vector3d& target_W,
     }
   }
   arm.move_joint = -1;
+  arm.ramp_from_ns = now_ns;
   ArmStatus::Arm& s = status_.arms[at(side)];
   s.phase = ReachPhase::kReaching;
   s.command_ns = now_ns;
@@ -346,7 +439,7 @@ void ArmReachLoop::reach_step(int side, std::int64_t now_ns, double dt_s) noexce
     refuse(side, "the arm servo found no motion toward the target (a singular arm)");
     return;
   }
-  advance_joints(arm, s.command_ns, now_ns, dt_s, J_v, qdot);
+  advance_joints(arm, arm.ramp_from_ns, now_ns, dt_s, J_v, qdot);
 }
 
 bool ArmReachLoop::stop_on_touch(Arm& arm, ArmStatus::Arm& s, std::int64_t now_ns) noexcept {
@@ -425,13 +518,13 @@ bool ArmReachLoop::solve_joint_velocities(const Arm& arm, const Eigen::Vector3d&
   return true;
 }
 
-void ArmReachLoop::advance_joints(const Arm& arm, std::int64_t command_ns, std::int64_t now_ns,
+void ArmReachLoop::advance_joints(const Arm& arm, std::int64_t ramp_from_ns, std::int64_t now_ns,
                                   double dt_s, const Eigen::Matrix<double, 3, 4>& J_v,
                                   const Eigen::Vector4d& qdot) noexcept {
   const ArmChain& chain = arm.chain;
-  // Capped speed, ramped from the command; every joint within its velocity limit. One scale
-  // for all: the direction of motion is kept.
-  const double since_s = static_cast<double>(now_ns - command_ns) * 1e-9 + dt_s;
+  // Capped speed, ramped from the reach's start or restart; every joint within its velocity limit.
+  // One scale for all: the direction of motion is kept.
+  const double since_s = static_cast<double>(now_ns - ramp_from_ns) * 1e-9 + dt_s;
   const double cap_m_s = std::min(params_.max_speed_m_s, params_.max_acceleration_m_s2 * since_s);
   const double speed_m_s = (J_v * qdot).norm();
   double scale = speed_m_s > cap_m_s ? cap_m_s / speed_m_s : 1.0;

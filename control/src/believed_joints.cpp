@@ -10,6 +10,8 @@ BelievedJoints::BelievedJoints(std::vector<Source> sources, int rig_joint_count)
     : sources_(std::move(sources)),
       frames_(sources_.size()),
       reported_(static_cast<std::size_t>(std::max(rig_joint_count, 0)), 0),
+      driven_(reported_.size(), 0),
+      enabled_(reported_.size(), 0),
       rig_joint_count_(rig_joint_count) {
   for (std::size_t s = 0; s < sources_.size(); ++s) {
     if (sources_[s].states == nullptr) {
@@ -40,8 +42,12 @@ bool BelievedJoints::read(std::span<double> q_rig_rad) noexcept {
     const int count = std::min(frame.count, static_cast<int>(indices.size()));
     for (int i = 0; i < count; ++i) {
       const auto rig = static_cast<std::size_t>(indices[static_cast<std::size_t>(i)]);
-      q_rig_rad[rig] = frame.states[static_cast<std::size_t>(i)].position_rad;
+      const hal::JointState& state = frame.states[static_cast<std::size_t>(i)];
+      q_rig_rad[rig] = state.position_rad;
       reported_[rig] = 1;
+      enabled_[rig] =
+          (state.status_bits & (hal::kJointNotEnabled | hal::kJointLatchingBits)) == 0 ? 1 : 0;
+      driven_[rig] = enabled_[rig] != 0 && (state.status_bits & hal::kJointStale) == 0 ? 1 : 0;
     }
   }
   return std::all_of(reported_.begin(), reported_.end(), [](std::uint8_t r) { return r != 0; });

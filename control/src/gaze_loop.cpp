@@ -23,6 +23,30 @@ std::size_t at(int index) {
   return static_cast<std::size_t>(index);
 }
 
+// The head's five joints, tree order (the loop's command and belief), with their rig indices.
+std::vector<CommandTracking::Joint> tracked_head_joints(const hal::HardwareInfo& hardware,
+                                                        const HeadJoints& head,
+                                                        std::span<const int> rig_to_tree,
+                                                        const std::vector<double>& max_error_rad) {
+  if (!max_error_rad.empty() && max_error_rad.size() != hardware.joints.size()) {
+    throw std::invalid_argument("gaze loop: " + std::to_string(max_error_rad.size()) +
+                                " tracking error limits for " +
+                                std::to_string(hardware.joints.size()) + " joints");
+  }
+  std::vector<CommandTracking::Joint> joints;
+  for (const int tree :
+       {head.neck_pan, head.neck_tilt, head.eye_tilt, head.eye_pan[0], head.eye_pan[1]}) {
+    CommandTracking::Joint joint;
+    joint.name = hardware.joints[at(tree)].name;
+    joint.index = tree;
+    joint.rig = static_cast<int>(std::find(rig_to_tree.begin(), rig_to_tree.end(), tree) -
+                                 rig_to_tree.begin());
+    if (!max_error_rad.empty()) joint.max_error_rad = max_error_rad[at(tree)];
+    joints.push_back(std::move(joint));
+  }
+  return joints;
+}
+
 }  // namespace
 
 GazeLoop::GazeLoop(const hal::HardwareInfo& hardware, const GazeLoopParams& params,
@@ -61,6 +85,8 @@ GazeLoop::GazeLoop(const hal::HardwareInfo& hardware, const GazeLoopParams& para
   for (const auto& joint : hardware.joints) limits_tree_.push_back(joint.limits);
   rig_to_tree_.assign(believed_kinematics_.rig_to_tree().begin(),
                       believed_kinematics_.rig_to_tree().end());
+  tracking_ = CommandTracking(
+      name_, tracked_head_joints(hardware, head_, rig_to_tree_, params.max_tracking_error_rad));
   const auto tree_count = static_cast<std::size_t>(believed_kinematics_.joint_count());
   q_command_tree_.assign(tree_count, 0.0);
   q_believed_tree_.assign(tree_count, 0.0);
@@ -127,6 +153,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     apply(command, now_ns);
   }
   update_belief(now_ns);
+  const CommandTracking::Step tracking = tracking_.step(believed_);
   // An unwritten channel holds FeatureRequest{} (everything): nobody asked for it yet.
   if (extra_features_channel_ != nullptr && extra_features_channel_->version() > 0) {
     perception::FeatureRequest extra;
@@ -139,6 +166,31 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
   }
 
   (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
+  status_.joints_held = tracking == CommandTracking::Step::kFrozen;
+  switch (tracking) {
+    case CommandTracking::Step::kFollow:
+      break;
+    case CommandTracking::Step::kFrozen:
+      // The drives do not follow: what is commanded stays as it was, so nothing winds up.
+      write_targets(now_ns);
+      publish(now_ns);
+      return hal::Status::kOk;
+    case CommandTracking::Step::kRestart:
+      // The first command after a hold is where the joints are; motion resumes next cycle.
+      restart_from_measured(now_ns);
+      write_targets(now_ns);
+      publish(now_ns);
+      return hal::Status::kOk;
+    case CommandTracking::Step::kFaulted:
+      write_targets(now_ns);
+      publish(now_ns);
+      return hal::Status::kFault;
+  }
+
+  // A measurement is taken on a cycle the controller follows: one that arrives while it is frozen
+  // waits for it. (Over a loaded CAN bus the holds come right after a camera frame's render, just
+  // when the SSM's result lands: consumed there, every measurement was lost and the eyes never
+  // verged.)
   const bool new_summary = summary_.sequence != 0 && summary_.sequence != last_summary_sequence_;
   if (new_summary) {
     last_summary_sequence_ = summary_.sequence;
@@ -147,6 +199,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
 
   switch (mode_) {
     case Mode::kHold:
+      if (move_joint_ >= 0) step_move(dt_s);
       break;
     case Mode::kFixate:
       servo_step(1.0, dt_s);
@@ -190,7 +243,18 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     clamp_vergence();
     place_verging_eye();
   }
+  if (tracking_.check(q_command_tree_, q_believed_tree_)) {
+    stop_on_tracking_fault();
+    write_targets(now_ns);
+    publish(now_ns);
+    return report_fault(tracking_.fault_message());
+  }
+  write_targets(now_ns);
+  publish(now_ns);
+  return hal::Status::kOk;
+}
 
+void GazeLoop::write_targets(std::int64_t now_ns) noexcept {
   for (int i = 0; i < pose_.count; ++i) {
     pose_.commands[at(i)].value = q_command_tree_[at(rig_to_tree_[at(i)])];
   }
@@ -203,8 +267,46 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
   }
   pose_.stamp_ns = now_ns;
   targets_.write(pose_);
-  publish(now_ns);
-  return hal::Status::kOk;
+}
+
+void GazeLoop::restart_from_measured(std::int64_t now_ns) noexcept {
+  tracking_.restart(q_command_tree_, q_believed_tree_);
+  // The vergence the eyes have, within what the verging eye may do.
+  vergence_rad_ = commanded_vergence_rad();
+  clamp_vergence();
+  // A disparity measured while the eyes were held belongs to a vergence no longer commanded.
+  verged_ = false;
+  pending_jump_rad_ = 0.0;
+  weak_pending_ = false;
+  if (mode_ == Mode::kSaccade) start_saccade(now_ns);
+}
+
+void GazeLoop::step_move(double dt_s) noexcept {
+  const std::size_t joint = at(move_joint_);
+  const double step = limits_tree_[joint].max_velocity_rad_s * dt_s;
+  double& q = q_command_tree_[joint];
+  const bool arrives = std::abs(move_goal_rad_ - q) <= step;
+  q = arrives ? move_goal_rad_ : q + std::clamp(move_goal_rad_ - q, -step, step);
+  if (move_joint_ == head_.eye_pan[0] || move_joint_ == head_.eye_pan[1]) {
+    // The verging eye keeps the vergence this move gives it (place_verging_eye() would undo it).
+    vergence_rad_ = commanded_vergence_rad();
+  }
+  if (arrives) move_joint_ = -1;
+}
+
+double GazeLoop::commanded_vergence_rad() const noexcept {
+  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
+  return sign * (q_command_tree_[at(head_.eye_pan[static_cast<std::size_t>(verging_)])] -
+                 q_command_tree_[at(head_.eye_pan[static_cast<std::size_t>(dominant_)])]);
+}
+
+void GazeLoop::stop_on_tracking_fault() noexcept {
+  tracking_.restart(q_command_tree_, q_believed_tree_);
+  vergence_rad_ = commanded_vergence_rad();
+  mode_ = Mode::kHold;
+  move_joint_ = -1;
+  pursuit_.stop();
+  status_.tracking_fault = true;
 }
 
 void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
@@ -214,6 +316,11 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
     ++status_.commands_applied;
     return;
   }
+  if (tracking_.faulted()) {
+    refuse(GazeRefusal::kTrackingFault);
+    return;
+  }
+  move_joint_ = -1;
   command_ = command;
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
@@ -274,13 +381,9 @@ bool GazeLoop::move_joint(int rig_index, double position_rad) noexcept {
                           joint == head_.eye_pan[1];
   if (!head_joint) return false;  // The arms' joints are the arm loop's.
   const hal::JointLimits& limits = limits_tree_[at(joint)];
-  q_command_tree_[at(joint)] =
-      std::clamp(position_rad, limits.min_position_rad, limits.max_position_rad);
-  // The verging eye keeps the vergence this move gives it (place_verging_eye() would undo it).
-  const std::size_t dominant_pan = at(head_.eye_pan[static_cast<std::size_t>(dominant_)]);
-  const std::size_t verging_pan = at(head_.eye_pan[static_cast<std::size_t>(verging_)]);
-  const double sign = verging_ == hal::Eye::kRight ? 1.0 : -1.0;
-  vergence_rad_ = sign * (q_command_tree_[verging_pan] - q_command_tree_[dominant_pan]);
+  // Not a step to the goal: the command would lead the joint by the whole move (update() ramps).
+  move_joint_ = joint;
+  move_goal_rad_ = std::clamp(position_rad, limits.min_position_rad, limits.max_position_rad);
   return true;
 }
 

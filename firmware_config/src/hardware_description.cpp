@@ -81,6 +81,7 @@ hal::HardwareInfo hardware_description(const RigConfig& rig) {
     info.X_PC = to_isometry(camera.mount);
     info.intrinsics = {camera.width_px,   camera.height_px,      camera.focal_x_px,
                        camera.focal_y_px, camera.principal_x_px, camera.principal_y_px};
+    info.distortion = camera.distortion;
     info.format = camera.format == PixelFormatConfig::kGrey8 ? hal::PixelFormat::kGrey8
                                                              : hal::PixelFormat::kRgb8;
     if (camera_loop != nullptr) info.rate_hz = camera_loop->rate_hz;

@@ -294,6 +294,14 @@ bool MapReader::is_list(std::string_view key) const {
   return false;
 }
 
+bool MapReader::is_map(std::string_view key) const {
+  if (!valid_) return false;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    if (it->first.IsScalar() && it->first.Scalar() == key) return it->second.IsMap();
+  }
+  return false;
+}
+
 double MapReader::number(std::string_view key, Range range) {
   const auto entry = lookup(key);
   if (!entry) {

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <set>
 
+#include "cambio/config/camera_calibration.hpp"
 #include "format.hpp"
 
 namespace cambio::config {
@@ -72,6 +73,40 @@ struct GroupEntry {
   MapReader reader;
 };
 
+/// joints.<j>.can.homing: `none` (the default: an absolute encoder) or CiA 402 homing's
+/// settings. Speeds above the joint's own limit are refused: the drive would move faster while
+/// homing than the rig allows it to be driven.
+std::optional<JointCanConfig::Homing> read_joint_homing(MapReader& can, double max_velocity_rad_s) {
+  if (!can.has("homing")) return std::nullopt;
+  if (!can.is_map("homing")) {
+    (void)can.choice("homing", {"none"});
+    return std::nullopt;
+  }
+  MapReader h = can.map("homing");
+  JointCanConfig::Homing homing;
+  const CleanRead method_read(h);
+  homing.method = static_cast<int>(h.integer(
+      "method", Range::closed(-128, 37).because("0x6098 is an INTEGER8: CiA 402's methods are "
+                                                "1..37, a vendor's own are negative")));
+  if (method_read.clean() && homing.method == 0) {
+    h.error("method",
+            "expected a homing method (e.g. 17 limit switch, 33 index pulse), found 0 "
+            "(no homing); write `homing: none` for a joint that does not home");
+  }
+  const Range speed = max_velocity_rad_s > 0.0
+                          ? Range{0.0, max_velocity_rad_s, true, false}.because(
+                                "at most the joint's max_velocity_rad_s")
+                          : Range::positive();
+  homing.switch_speed_rad_s = h.number("switch_speed_rad_s", speed);
+  homing.zero_speed_rad_s = h.number("zero_speed_rad_s", speed);
+  homing.acceleration_rad_s2 = h.number("acceleration_rad_s2", Range::positive());
+  homing.offset_rad = h.angle_rad_or("offset", 0.0);
+  homing.timeout_s =
+      h.number("timeout_s", Range{0.0, 3600.0, true, false}.because("a homing run takes seconds"));
+  h.finish();
+  return homing;
+}
+
 JointConfig read_joint(const std::string& name, MapReader& r,
                        std::optional<MapReader>& can_reader) {
   JointConfig joint;
@@ -111,6 +146,22 @@ JointConfig read_joint(const std::string& name, MapReader& r,
   joint.max_velocity_rad_s = r.number("max_velocity_rad_s", Range::positive());
   joint.max_acceleration_rad_s2 = r.number("max_acceleration_rad_s2", Range::positive());
   joint.max_effort_nm = r.number_or("max_effort_nm", 0.0, Range::non_negative());
+  {
+    // A bound wider than the joint's travel could never be met: it is refused, and the default
+    // shrinks to the travel.
+    const double travel_rad = limits_clean && joint.min_position_rad < joint.max_position_rad
+                                  ? joint.max_position_rad - joint.min_position_rad
+                                  : std::numeric_limits<double>::infinity();
+    const CleanRead tracking_read(r);
+    joint.max_tracking_error_rad =
+        r.angle_rad_or("max_tracking_error", std::min(kDefaultMaxTrackingError_rad, travel_rad),
+                       Range::positive());
+    if (tracking_read.clean() && joint.max_tracking_error_rad > travel_rad) {
+      const std::string key = angle_key(r, "max_tracking_error");
+      r.error(key, "expected at most the joint's travel (" + format_angle(travel_rad, key) +
+                       "), found " + format_angle(joint.max_tracking_error_rad, key));
+    }
+  }
 
   const bool has_initial = r.has("initial_position_deg") || r.has("initial_position_rad");
   const CleanRead initial_read(r);
@@ -156,6 +207,16 @@ JointConfig read_joint(const std::string& name, MapReader& r,
         "encoder_counts_per_rev", Range{1.0, std::numeric_limits<double>::infinity()});
     can.following_error_window_rad =
         can_reader->angle_rad_or("following_error_window", 0.0, Range::non_negative());
+    can.homing = read_joint_homing(*can_reader, joint.max_velocity_rad_s);
+    if (auto virtual_drive = can_reader->optional_map("virtual_drive")) {
+      if (virtual_drive->has("home_switch_deg") || virtual_drive->has("home_switch_rad")) {
+        can.virtual_home_switch_rad = virtual_drive->angle_rad("home_switch");
+      }
+      if (virtual_drive->has("index_pulse_deg") || virtual_drive->has("index_pulse_rad")) {
+        can.virtual_index_pulse_rad = virtual_drive->angle_rad("index_pulse");
+      }
+      virtual_drive->finish();
+    }
     can_reader->finish();
     joint.can = can;
   }
@@ -340,6 +401,9 @@ CameraConfig read_camera(const std::string& name, MapReader& r) {
       }
     }
   }
+  if (auto distortion = r.optional_map("distortion")) {
+    camera.distortion = read_plumb_bob_distortion(*distortion);
+  }
   camera.format = r.choice_or("format", {"grey8", "rgb8"}, "rgb8") == "grey8"
                       ? PixelFormatConfig::kGrey8
                       : PixelFormatConfig::kRgb8;
@@ -347,6 +411,7 @@ CameraConfig read_camera(const std::string& name, MapReader& r) {
   if (auto foveation = r.optional_map("sim_foveation")) {
     read_sim_foveation(*foveation, camera, size_clean);
   }
+  camera.device = read_camera_device(r);
   r.finish();
   return camera;
 }
@@ -772,6 +837,7 @@ RigConfig read_rig(MapReader root, const std::string& file) {
   read_joints(root, rig, readers);
   read_groups(root, rig, readers);
   read_cameras(root, rig, readers);
+  read_camera_calibration_key(root, rig);
   read_stereo(root, rig, readers);
   read_touch_sensors(root, rig, readers);
   read_can_buses(root, rig, readers);

@@ -75,7 +75,7 @@ TEST(TestBackendRun, ABackendNoOneRegisteredIsRefusedAtItsKeyWithTheNamesAvailab
     ASSERT_EQ(error.issues().size(), 1u);
     EXPECT_EQ(error.issues()[0].key_path, "groups.pan_tilt.backend");
     EXPECT_NE(error.issues()[0].message.find("'test_rig' is not a known backend (available: "
-                                             "sim, socketcan)"),
+                                             "sim, socketcan, v4l2)"),
               std::string::npos)
         << error.issues()[0].message;
   }

@@ -19,7 +19,8 @@
 #
 # Exit status: COMMAND's own; 77 when the guest cannot start here (says why; ctest's SKIP code);
 # 125 when the guest started but gave no status back (boot failure, crash, timeout).
-# Cache (kernel, modules, initramfs): ${CAMBIO_BUILD_DIR:-<repo>/build}/can_vm/.
+# Cache (kernel, modules, initramfs): ${CAMBIO_BUILD_DIR:-<repo>/build}/can_vm/; the V4L2 modules
+# (vivid and its dependencies, not loaded at boot) in <kernel>/media/ with their insmod order.
 set -uo pipefail
 
 readonly kSkip=77
@@ -28,6 +29,10 @@ readonly kPackages=(qemu-system-x86 busybox-static can-utils iproute2 xz-utils)
 # insmod order (dependencies first); a module missing from the package is built in and skipped.
 readonly kModules=(virtio_ring virtio virtio_pci_legacy_dev virtio_pci_modern_dev virtio_pci
   9pnet 9pnet_virtio netfs fscache 9p can can-raw can-bcm can-gw can-dev vcan vxcan)
+# V4L2's test driver and its dependencies in insmod order, unpacked into <kernel>/media/ but not
+# loaded at boot: a V4L2 test loads vivid with the parameters it needs (v4l2_vivid_vm_test.sh).
+readonly kMediaModules=(mc rc-core cec videodev v4l2-dv-timings v4l2-tpg videobuf2-common
+  videobuf2-memops videobuf2-v4l2 videobuf2-vmalloc videobuf2-dma-contig vivid)
 
 script_dir=$(cd -- "$(dirname -- "${BASH_SOURCE[0]}")" && pwd -P)
 repo_dir=$(cd -- "${script_dir}/../.." && pwd -P)
@@ -112,7 +117,7 @@ ensure_kernel() {
     [[ -n ${package} ]] || skip "apt cannot resolve linux-image-amd64 and no kernel is cached in ${cache_dir}"
   fi
   local kernel_dir=${cache_dir}/${package}
-  if [[ -f ${kernel_dir}/complete ]]; then
+  if [[ -f ${kernel_dir}/complete && -f ${kernel_dir}/media/modules.order ]]; then
     printf '%s\n' "${kernel_dir}"
     return 0
   fi
@@ -126,7 +131,7 @@ ensure_kernel() {
   dpkg-deb --fsys-tarfile "${work}"/"${package}"_*.deb | tar -x -C "${work}/root" \
     --wildcards './boot/vmlinuz-*' '*/kernel/drivers/virtio/*' '*/kernel/net/9p/*' \
     '*/kernel/fs/9p/*' '*/kernel/fs/netfs/*' '*/kernel/fs/fscache/*' '*/kernel/net/can/*' \
-    '*/kernel/drivers/net/can/*' ||
+    '*/kernel/drivers/net/can/*' '*/kernel/drivers/media/*' ||
     { rm -rf -- "${work}"; skip "cannot unpack ${package}"; }
   local module found order=()
   for module in "${kModules[@]}"; do
@@ -139,6 +144,15 @@ ensure_kernel() {
     [[ -f ${work}/out/modules/${module}.ko ]] || { rm -rf -- "${work}"; skip "${package} has no ${module}.ko"; }
   done
   printf '%s\n' "${order[@]}" >"${work}/out/modules.order"
+  mkdir -p -- "${work}/out/media"
+  order=()
+  for module in "${kMediaModules[@]}"; do
+    found=$(find "${work}/root" -name "${module}.ko" -print -quit)
+    if [[ -n ${found} ]]; then
+      cp -- "${found}" "${work}/out/media/" && order+=("${module}")
+    fi
+  done
+  printf '%s\n' "${order[@]}" >"${work}/out/media/modules.order"
   local vmlinuz
   vmlinuz=$(ls "${work}"/root/boot/vmlinuz-* | head -n 1)
   # The bzImage's payload is an ELF vmlinux compressed with xz; booting it directly (PVH entry)

@@ -514,20 +514,32 @@ namespace {
 TEST(GazeLoop, AMovedHeadJointGoesWithinItsLimitsAndAnArmJointIsRefused) {
   GazeHarness head;
   head.build();
+  // A move goes at the joint's velocity limit: its command never leads the joint by the whole
+  // move (which would be a tracking fault), and it gets there in distance / limit.
+  const auto move_steps = [&](const std::string& joint, double distance_deg) {
+    return static_cast<int>(
+        std::ceil(distance_deg * kDeg / (head.limit_velocity(joint) * kPeriodS)));
+  };
   head.move("neck_pan", 10.0);
-  head.step();
+  for (int i = 0; i < move_steps("neck_pan", 10.0); ++i) {
+    head.step();
+    EXPECT_LE(std::abs(head.velocity_rad_s("neck_pan")), head.limit_velocity("neck_pan") + 1e-9);
+    if (i == 0) {
+      EXPECT_LT(head.q_deg("neck_pan"), 1.0);
+    }
+  }
   EXPECT_NEAR(head.q_deg("neck_pan"), 10.0, 1e-9);
   EXPECT_EQ(head.status().action, GazeAction::kMoveJoint);
   const double upper_deg = head.hardware().find_joint("eye_tilt")->limits.max_position_rad / kDeg;
   head.move("eye_tilt", upper_deg + 50.0);
-  head.step();
+  for (int i = 0; i < move_steps("eye_tilt", upper_deg); ++i) head.step();
   EXPECT_NEAR(head.q_deg("eye_tilt"), upper_deg, 1e-9);
   // The verging eye keeps the vergence a move gives it; the eyes never diverge.
   head.move("right_eye_pan", 6.0);
   for (int i = 0; i < 3; ++i) head.step();
   EXPECT_NEAR(head.q_deg("right_eye_pan") - head.q_deg("left_eye_pan"), 6.0, 1e-9);
   head.move("right_eye_pan", -6.0);
-  head.step();
+  for (int i = 0; i < 3; ++i) head.step();
   EXPECT_NEAR(head.q_deg("right_eye_pan"), head.q_deg("left_eye_pan"), 1e-9);
   // Arms are the arm loop's: the command is counted as rejected and nothing moves.
   const std::uint64_t rejected = head.loop().rejected_commands();

@@ -99,9 +99,10 @@ TEST(Override, ANewMapIsCheckedLikeTheFile) {
   ASSERT_EQ(issues.size(), 1u) << describe(issues);
   EXPECT_EQ(issues[0].to_string(),
             "--set: cameras.eye.bogus: unknown key \"bogus\"; expected one of "
-            "backend, focal_px, focal_x_px, focal_y_px, format, "
-            "height_px, image_noise_std, origin_rpy_deg, origin_rpy_rad, "
-            "origin_xyz_m, parent, principal_point_px, sim_foveation, width_px");
+            "backend, buffer_count, controls, device, distortion, focal_px, focal_x_px, "
+            "focal_y_px, format, frame_rate_hz, height_px, image_noise_std, origin_rpy_deg, "
+            "origin_rpy_rad, origin_xyz_m, parent, pixel_format, principal_point_px, "
+            "sim_foveation, width_px");
 }
 
 TEST(Override, ThroughAScalarIsRefused) {

@@ -231,6 +231,32 @@ TEST(BadRig, InitialPositionOutsideLimits) {
                       "expected a position within the limits");
 }
 
+TEST(SmallRig, TrackingErrorLimitDefaultsToTwentyDegreesOrTheTravel) {
+  const RigConfig rig = load_rig_from_string(
+      small_rig_with(12, "    max_acceleration_rad_s2: 20.0\n    max_tracking_error_deg: 5"),
+      "test.yaml", {});
+  EXPECT_DOUBLE_EQ(rig.find_joint("pan")->max_tracking_error_rad, 5.0 * std::numbers::pi / 180);
+  EXPECT_DOUBLE_EQ(rig.find_joint("tilt")->max_tracking_error_rad, kDefaultMaxTrackingError_rad);
+  EXPECT_DOUBLE_EQ(kDefaultMaxTrackingError_rad, 20.0 * std::numbers::pi / 180);
+  // A joint that travels 10 deg cannot lag by 20: its default is its travel.
+  const RigConfig short_travel =
+      load_rig_from_string(small_rig_with(10, "    max_position_deg: -80"), "test.yaml", {});
+  EXPECT_DOUBLE_EQ(short_travel.find_joint("pan")->max_tracking_error_rad,
+                   10.0 * std::numbers::pi / 180);
+}
+
+TEST(BadRig, TrackingErrorLimitBeyondTheTravelOrNotPositive) {
+  expect_single_issue(issues_of(small_rig_with(12,
+                                               "    max_acceleration_rad_s2: 20.0\n"
+                                               "    max_tracking_error_deg: 200")),
+                      13, 29, "joints.pan.max_tracking_error_deg",
+                      "expected at most the joint's travel (180 deg), found 200 deg");
+  expect_single_issue(issues_of(small_rig_with(12,
+                                               "    max_acceleration_rad_s2: 20.0\n"
+                                               "    max_tracking_error_rad: 0")),
+                      13, 29, "joints.pan.max_tracking_error_rad", "found 0");
+}
+
 TEST(BadRig, RateOfZero) {
   const std::string yaml = small_rig() + "loops:\n  joint: {rate_hz: 0}\n";  // Lines 35-36.
   expect_single_issue(issues_of(yaml), 36, 20, "loops.joint.rate_hz",

@@ -58,6 +58,7 @@ CanJointGroup::CanJointGroup(hal::JointGroupInfo info, CanGroupSettings settings
                              drive.mode);
     slot.heartbeat = HeartbeatConsumer(heartbeat_ns);
     slot.drive.set_torque_units({0.0, drive.gear_ratio});
+    slot.must_home = drive.homing.has_value();
     slots_.push_back(slot);
   }
   // RPDO1 (and RPDO2 when mapped) per drive, then SYNC.
@@ -79,6 +80,11 @@ void CanJointGroup::set_rated_torque(std::size_t joint, double rated_torque_nm) 
 
 void CanJointGroup::set_configuration(std::size_t joint, std::span<const ObjectWrite> writes) {
   slots_[joint].configuration = reconfiguration_plan(writes);
+}
+
+void CanJointGroup::set_homed(std::size_t joint, HomingRecord record) {
+  slots_[joint].homed = true;
+  homing_records_.push_back(std::move(record));
 }
 
 ReconfigurationError CanJointGroup::last_reconfiguration_error() const {
@@ -230,6 +236,7 @@ void CanJointGroup::dispatch(const hal::CanFrame& frame, std::int64_t now_ns) {
       }
       if (*state == NmtState::kBootUp) {
         bump(counters_.boot_ups);
+        slot.homed = false;  // A drive that restarted has lost its reference.
         if (reconfiguring_ == index) reconfiguration_.fail("booted again while being configured");
       }
       slot.heartbeat.on_heartbeat(*state, stamp_ns);
@@ -315,7 +322,8 @@ void CanJointGroup::build_rpdos(bool use_commands) {
                  slot.drive.mode() == hal::CommandMode::kPosition ? slot.drive.position_rad() : 0.0,
                  0.0, 0.0};
     }
-    const DriveTargets targets = slot.drive.next_targets(command, hold_latched_);
+    const bool unhomed = slot.must_home && !slot.homed;
+    const DriveTargets targets = slot.drive.next_targets(command, hold_latched_, unhomed);
     const auto value_of = [&targets](ObjectAddress object) { return raw_target(targets, object); };
     pack_pdo(layout_.rpdos[0], rpdo_cob_id(1, slot.drive.node_id()), value_of, tx_[tx_count_++]);
     if (!layout_.rpdos[1].empty()) {

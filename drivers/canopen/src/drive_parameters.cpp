@@ -133,4 +133,31 @@ std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
   return writes;
 }
 
+std::vector<ObjectWrite> homing_parameter_writes(const hal::JointInfo& joint,
+                                                 const JointDriveInfo& drive) {
+  if (!drive.homing) return {};
+  check_drive_units(joint, drive);
+  const HomingSettings& homing = *drive.homing;
+  const std::string name = "joint '" + joint.name + "' homing";
+  if (homing.method < -128 || homing.method > 127) {
+    throw std::invalid_argument(name + ": method " + std::to_string(homing.method) +
+                                " does not fit 0x6098 (INTEGER8)");
+  }
+  const auto units = cia402::Units::from(drive.gear_ratio, drive.encoder_counts_per_rev);
+  const auto unsigned_counts = [&](double value, const char* what) {
+    return static_cast<std::uint32_t>(
+        checked_counts(std::abs(value * units.counts_per_rad), name + " " + what));
+  };
+  const std::int64_t offset =
+      checked_counts(homing.offset_rad * units.counts_per_rad, name + " offset");
+  return {
+      {cia402::kHomingMethod, static_cast<std::uint8_t>(static_cast<std::int8_t>(homing.method)), 1,
+       true},
+      {cia402::kHomingSwitchSpeed, unsigned_counts(homing.switch_speed_rad_s, "switch speed"), 4},
+      {cia402::kHomingZeroSpeed, unsigned_counts(homing.zero_speed_rad_s, "zero speed"), 4},
+      {cia402::kHomingAcceleration, unsigned_counts(homing.acceleration_rad_s2, "acceleration"), 4},
+      {cia402::kHomeOffset, static_cast<std::uint32_t>(static_cast<std::int32_t>(offset)), 4, true},
+  };
+}
+
 }  // namespace cambio::canopen

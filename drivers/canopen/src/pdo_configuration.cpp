@@ -23,20 +23,30 @@ void configure_pdo(std::vector<ObjectWrite>& writes, std::uint16_t communication
 
 }  // namespace
 
-std::vector<ObjectWrite> pdo_configuration_writes(int node_id, const PdoLayout& layout) {
+std::vector<ObjectWrite> pdo_configuration_writes(int node_id, const PdoLayout& layout,
+                                                  const PdoPresence& present) {
   std::vector<ObjectWrite> writes;
-  for (int n = 1; n <= static_cast<int>(layout.rpdos.size()); ++n) {
+  const auto configure = [&](bool receive, int n) {
     const auto offset = static_cast<std::uint16_t>(n - 1);
-    configure_pdo(writes, static_cast<std::uint16_t>(kRpdoCommunication + offset),
-                  static_cast<std::uint16_t>(kRpdoMapping + offset), rpdo_cob_id(n, node_id), 0,
-                  layout.rpdos[static_cast<std::size_t>(n - 1)]);
-  }
-  for (int n = 1; n <= static_cast<int>(layout.tpdos.size()); ++n) {
-    const auto offset = static_cast<std::uint16_t>(n - 1);
-    configure_pdo(writes, static_cast<std::uint16_t>(kTpdoCommunication + offset),
-                  static_cast<std::uint16_t>(kTpdoMapping + offset), tpdo_cob_id(n, node_id),
-                  kPdoCobIdNoRtr, layout.tpdos[static_cast<std::size_t>(n - 1)]);
-  }
+    const auto k = static_cast<std::size_t>(n - 1);
+    const auto& mappings = receive ? layout.rpdos : layout.tpdos;
+    const PdoMapping unused{};
+    const PdoMapping& mapping = k < mappings.size() ? mappings[k] : unused;
+    if (mapping.empty() && !(receive ? present.rpdos[k] : present.tpdos[k])) return;
+    const auto communication =
+        static_cast<std::uint16_t>((receive ? kRpdoCommunication : kTpdoCommunication) + offset);
+    const std::uint32_t cob_id = receive ? rpdo_cob_id(n, node_id) : tpdo_cob_id(n, node_id);
+    const std::uint32_t flags = receive ? 0u : kPdoCobIdNoRtr;
+    if (k >= mappings.size()) {
+      writes.push_back({ObjectAddress{communication, 1}, cob_id | flags | kPdoCobIdInvalid, 4});
+      return;
+    }
+    configure_pdo(writes, communication,
+                  static_cast<std::uint16_t>((receive ? kRpdoMapping : kTpdoMapping) + offset),
+                  cob_id, flags, mapping);
+  };
+  for (int n = 1; n <= 4; ++n) configure(true, n);
+  for (int n = 1; n <= 4; ++n) configure(false, n);
   return writes;
 }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cambio/canopen/drive_parameters.hpp"
+#include "cambio/canopen/homing.hpp"
 #include "cambio/canopen/nmt_master.hpp"
 #include "cambio/canopen/object_write.hpp"
 #include "cambio/canopen/pdo_configuration.hpp"
@@ -42,6 +43,49 @@ class CanJointGroupHandle final : public hal::JointGroup {
  private:
   CanJointGroup& group_;
 };
+
+/// The homing parameters; a drive that refuses the method (an SDO abort on 0x6098, as a drive
+/// without that method answers) is reported as such.
+void write_homing_parameters(BusPump& pump, int node, const JointDriveInfo& drive,
+                             std::span<const ObjectWrite> writes, double sdo_timeout_s) {
+  for (const ObjectWrite& write : writes) {
+    try {
+      sdo_write_value(pump, node, write.object, write.value, write.bytes, sdo_timeout_s);
+    } catch (const SdoError& error) {
+      if (write.object != cia402::kHomingMethod) throw;
+      throw SdoError("homing method " + std::to_string(drive.homing->method) +
+                         " refused by the drive: " + error.what(),
+                     error.abort_code());
+    }
+  }
+}
+
+/// Which PDOs the drive has, asked only for those the layout leaves empty (a mapped one must
+/// exist: its configuration fails naming it otherwise).
+PdoPresence pdo_presence(BusPump& pump, int node, const PdoLayout& layout, double sdo_timeout_s) {
+  PdoPresence present;
+  const auto has = [&](std::uint16_t communication) {
+    try {
+      (void)sdo_read_value(pump, node, ObjectAddress{communication, 1}, sdo_timeout_s);
+      return true;
+    } catch (const SdoError& error) {
+      if (error.abort_code() != static_cast<std::uint32_t>(SdoAbortCode::kObjectDoesNotExist)) {
+        throw;
+      }
+      return false;
+    }
+  };
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto offset = static_cast<std::uint16_t>(k);
+    if (k >= layout.rpdos.size() || layout.rpdos[k].empty()) {
+      present.rpdos[k] = has(static_cast<std::uint16_t>(kRpdoCommunication + offset));
+    }
+    if (k >= layout.tpdos.size() || layout.tpdos[k].empty()) {
+      present.tpdos[k] = has(static_cast<std::uint16_t>(kTpdoCommunication + offset));
+    }
+  }
+  return present;
+}
 
 }  // namespace
 
@@ -173,15 +217,20 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
       }
       const std::vector<ObjectWrite> parameters = drive_parameter_writes(
           joint, *can_rig_.find_drive(joint.name), info, settings, group.rate_hz());
-      const std::vector<ObjectWrite> pdos = pdo_configuration_writes(node, group.layout());
+      const JointDriveInfo& drive = *can_rig_.find_drive(joint.name);
+      const std::vector<ObjectWrite> homing = homing_parameter_writes(joint, drive);
+      const std::vector<ObjectWrite> pdos = pdo_configuration_writes(
+          node, group.layout(), pdo_presence(pump, node, group.layout(), sdo_timeout_s));
       write_objects(pump, node, parameters, sdo_timeout_s);
+      write_homing_parameters(pump, node, drive, homing, sdo_timeout_s);
       write_objects(pump, node, pdos, sdo_timeout_s);
-      for (auto* writes : {&parameters, &pdos}) {
+      for (auto* writes : {&parameters, &homing, &pdos}) {
         auto found = verify_objects(pump, node, what, *writes, sdo_timeout_s);
         mismatches.insert(mismatches.end(), found.begin(), found.end());
       }
       // The replay a reboot needs, precomputed here: the loop side does not allocate.
       std::vector<ObjectWrite> configuration = parameters;
+      configuration.insert(configuration.end(), homing.begin(), homing.end());
       configuration.insert(configuration.end(), pdos.begin(), pdos.end());
       group.set_configuration(k, configuration);
       if (settings.effort_feedforward || settings.effort_feedback) {
@@ -222,8 +271,26 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
 
 void SocketCanBackend::activate() {
   if (!configured_) throw std::logic_error("socketcan: activate() before configure()");
+  for (auto& [name, group] : groups_) home_group(*group, *hardware_.find_group(name));
   for (auto& [name, group] : groups_) group->arm(clock_.now_ns());
   active_ = true;
+}
+
+void SocketCanBackend::home_group(CanJointGroup& group, const hal::JointGroupInfo& info) {
+  const double sdo_timeout_s = group.settings().sdo_timeout_s;
+  BusPump pump(group.bus(), clock_, options_.waiter);
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    const JointDriveInfo& drive = *can_rig_.find_drive(info.joints[k]);
+    if (!drive.homing) continue;
+    try {
+      HomingRecord record =
+          home_drive(pump, info.joints[k], drive.node_id, *drive.homing, drive.mode, sdo_timeout_s);
+      group.seed_feedback(k, record.feedback, clock_.now_ns());
+      group.set_homed(k, std::move(record));
+    } catch (const std::exception& error) {
+      throw std::runtime_error("socketcan: joint group " + quoted(info.name) + ": " + error.what());
+    }
+  }
 }
 
 void SocketCanBackend::deactivate() noexcept {

@@ -41,6 +41,12 @@ void EmulatedDrive::power_on(std::int64_t now_ns) noexcept {
   power_on_ns_ = now_ns;
   first_enabled_ns_ = -1;
   servo_time_ns_ = now_ns;
+  // A power cycle: every object back to its default, the home reference gone.
+  dictionary_.restore_defaults(0x0000, 0xFFFF);
+  following_error_ = false;
+  previous_controlword_ = 0;
+  origin_rad_ = 0.0;
+  homing_phase_ = HomingPhase::kIdle;
   drive_state_ = DriveState::kNotReadyToSwitchOn;
   enter(DriveState::kSwitchOnDisabled);  // Transitions 0 and 1: self-test passed.
   boot(now_ns);
@@ -89,6 +95,8 @@ void EmulatedDrive::handle_nmt(const hal::CanFrame& frame, std::int64_t now_ns) 
       dictionary_.restore_defaults(0x0000, 0xFFFF);
       following_error_ = false;
       previous_controlword_ = 0;
+      origin_rad_ = 0.0;
+      homing_phase_ = HomingPhase::kIdle;
       drive_state_ = DriveState::kNotReadyToSwitchOn;
       enter(DriveState::kSwitchOnDisabled);
       boot(now_ns);
@@ -188,7 +196,11 @@ std::uint32_t EmulatedDrive::sdo_write(ObjectAddress address, std::span<const st
   }
   if (address == cia402::kModesOfOperation) {
     const auto mode = static_cast<std::int8_t>(value);
-    if (mode != 8 && mode != 9) return code(SdoAbortCode::kInvalidValue);
+    if (mode != 6 && mode != 8 && mode != 9) return code(SdoAbortCode::kInvalidValue);
+  }
+  if (address == cia402::kHomingMethod &&
+      !homing_method_supported(static_cast<std::int8_t>(value))) {
+    return code(SdoAbortCode::kInvalidValue);  // As a drive without that method answers.
   }
   const std::uint32_t previous_mode = mode_->value;
   (void)dictionary_.write(address, data);
@@ -214,21 +226,39 @@ std::uint32_t EmulatedDrive::sdo_write(ObjectAddress address, std::span<const st
 
 void EmulatedDrive::on_controlword(std::uint16_t controlword) noexcept {
   const cia402::Command command = cia402::decode_controlword(controlword, previous_controlword_);
+  const bool homing_bit = (controlword & cia402::kControlHomingStart) != 0;
+  const bool homing_bit_before = (previous_controlword_ & cia402::kControlHomingStart) != 0;
   previous_controlword_ = controlword;
   const DriveState next = cia402::drive_state_after(drive_state_, command);
-  if (next == drive_state_) return;
-  if (drive_state_ == DriveState::kFault) {
-    // Transition 15: the fault is cleared and the drive says so (EMCY 0x0000).
-    following_error_ = false;
-    error_code_->value = 0;
-    error_register_->value = 0;
-    send_emergency(kEmcyErrorReset);
+  if (next != drive_state_) {
+    if (drive_state_ == DriveState::kFault) {
+      // Transition 15: the fault is cleared and the drive says so (EMCY 0x0000).
+      following_error_ = false;
+      error_code_->value = 0;
+      error_register_->value = 0;
+      send_emergency(kEmcyErrorReset);
+    }
+    enter(next);
   }
-  enter(next);
+  if (mode_->value != 6 || !hal::is_enabled(drive_state_) || homing_bit == homing_bit_before) {
+    return;
+  }
+  if (homing_bit) {
+    start_homing();
+  } else if (homing_phase_ == HomingPhase::kSearch || homing_phase_ == HomingPhase::kEdge ||
+             homing_phase_ == HomingPhase::kToHome) {
+    homing_phase_ = HomingPhase::kIdle;  // Bit 4 cleared: interrupted.
+    servo_.brake_to_stop();
+    update_actual_values();
+  }
 }
 
 void EmulatedDrive::enter(DriveState state) noexcept {
   drive_state_ = state;
+  // A state or mode change ends a homing run that has not completed.
+  if (homing_phase_ != HomingPhase::kAttained && homing_phase_ != HomingPhase::kError) {
+    homing_phase_ = HomingPhase::kIdle;
+  }
   if (state == DriveState::kOperationEnabled && first_enabled_ns_ < 0) first_enabled_ns_ = now_ns_;
   targets_written_ = false;
   const double measured_rad = servo_.output_position_rad();
@@ -247,13 +277,14 @@ void EmulatedDrive::enter(DriveState state) noexcept {
 }
 
 void EmulatedDrive::latch_targets() noexcept {
-  if (!hal::is_enabled(drive_state_) || !targets_written_) return;
+  // Homing ignores the cyclic targets.
+  if (!hal::is_enabled(drive_state_) || !targets_written_ || mode_->value == 6) return;
   const double torque_nm =
       static_cast<double>(torque_offset_->as_integer()) / 1000.0 * config_.rated_torque_nm;
   if (mode_->value == 8) {
     const std::int64_t target = std::clamp(
         target_position_->as_integer(), min_position_->as_integer(), max_position_->as_integer());
-    demand_rad_ = units_.to_rad(static_cast<std::int32_t>(target));
+    demand_rad_ = units_.to_rad(static_cast<std::int32_t>(target)) + origin_rad_;
     const double velocity_rad_s =
         static_cast<double>(velocity_offset_->as_integer()) / units_.counts_per_rad;
     (void)servo_.command({hal::CommandMode::kPosition, demand_rad_, velocity_rad_s, torque_nm});
@@ -282,6 +313,7 @@ void EmulatedDrive::advance_servo(std::int64_t now_ns) noexcept {
     servo_.observe(servo_.output_position_rad());  // No physics here: the joint is the servo's.
     servo_time_ns_ += step_ns_;
     stepped = true;
+    if (homing_phase_ != HomingPhase::kIdle && mode_->value == 6) step_homing();
     // Transition 14: the fault reaction ends when the joint stands still.
     if (drive_state_ == DriveState::kFaultReactionActive && servo_.at_rest()) {
       enter(DriveState::kFault);
@@ -291,7 +323,7 @@ void EmulatedDrive::advance_servo(std::int64_t now_ns) noexcept {
 }
 
 void EmulatedDrive::update_actual_values() noexcept {
-  const std::int32_t actual_counts = units_.to_counts(servo_.encoder_position_rad());
+  const std::int32_t actual_counts = units_.to_counts(to_drive_rad(servo_.encoder_position_rad()));
   position_actual_->value = static_cast<std::uint32_t>(actual_counts);
   velocity_actual_->value =
       static_cast<std::uint32_t>(units_.to_counts(servo_.encoder_velocity_rad_s()));
@@ -299,12 +331,14 @@ void EmulatedDrive::update_actual_values() noexcept {
   const double torque_per_mille = enabled ? static_cast<double>(torque_offset_->as_integer()) : 0.0;
   torque_actual_->value =
       static_cast<std::uint32_t>(static_cast<std::int16_t>(torque_per_mille)) & 0xFFFFu;
-  const std::int32_t demand_counts = units_.to_counts(demand_rad_);
+  const std::int32_t demand_counts = units_.to_counts(to_drive_rad(demand_rad_));
   position_demand_->value = static_cast<std::uint32_t>(demand_counts);
   mode_display_->value = mode_->value;
 
   std::uint32_t status = cia402::statusword_of(drive_state_) | cia402::kStatusRemote;
-  if (enabled) {
+  if (enabled && mode_->value == 6) {
+    status |= homing_status_bits();
+  } else if (enabled) {
     status |= cia402::kStatusDriveFollowsCommand;
     const bool settled = mode_->value == 8
                              ? std::abs(static_cast<std::int64_t>(demand_counts) - actual_counts) <=

@@ -37,8 +37,9 @@ inline constexpr std::uint16_t kEmcyFollowingError = 0x8611;
 
 inline constexpr std::uint32_t kFollowingErrorOff = 0xFFFF'FFFF;
 
-/// Supported drive modes (0x6502): bit 7 cyclic synchronous position, bit 8 velocity.
-inline constexpr std::uint32_t kSupportedModes = (1u << 7) | (1u << 8);
+/// Supported drive modes (0x6502): bit 5 homing, bit 7 cyclic synchronous position, bit 8
+/// cyclic synchronous velocity.
+inline constexpr std::uint32_t kSupportedModes = (1u << 5) | (1u << 7) | (1u << 8);
 
 inline bool in(std::uint16_t index, std::uint16_t first) {
   return index >= first && index < first + EmulatedDrive::kPdoCount;

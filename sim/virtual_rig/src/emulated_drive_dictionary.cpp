@@ -74,10 +74,13 @@ void EmulatedDrive::add_pdo_objects() {
               entry);
       }
     };
+    // PDOs the stack's layout does not name (3 and 4) start invalid and empty.
+    const canopen::PdoMapping unused{};
+    const auto k = static_cast<std::size_t>(n);
     add_mapping(static_cast<std::uint16_t>(canopen::kRpdoMapping + i),
-                layout.rpdos[static_cast<std::size_t>(n)]);
+                k < layout.rpdos.size() ? layout.rpdos[k] : unused);
     add_mapping(static_cast<std::uint16_t>(canopen::kTpdoMapping + i),
-                layout.tpdos[static_cast<std::size_t>(n)]);
+                k < layout.tpdos.size() ? layout.tpdos[k] : unused);
   }
 }
 
@@ -113,6 +116,7 @@ void EmulatedDrive::add_cia402_objects() {
         saturating_counts(config_.rated_torque_nm * 1000.0));
   d.add(cia402::kTorqueActualValue, "Torque actual value", kInteger16, kReadOnly, 0, true);
   d.add(cia402::kTargetPosition, "Target position", kInteger32, kReadWrite, 0, true);
+  d.add(cia402::kHomeOffset, "Home offset", kInteger32, kReadWrite, 0);
   d.add({cia402::kMinSoftwarePositionLimit.index, 0}, "Highest sub-index supported", kUnsigned8,
         kConst, 2);
   d.add(cia402::kMinSoftwarePositionLimit, "Min position limit", kInteger32, kReadWrite,
@@ -121,6 +125,12 @@ void EmulatedDrive::add_cia402_objects() {
         counts(config_.servo.max_position_rad));
   d.add(cia402::kMaxProfileVelocity, "Max profile velocity", kUnsigned32, kReadWrite,
         saturating_counts(config_.servo.max_velocity_rad_s * units_.counts_per_rad));
+  d.add(cia402::kHomingMethod, "Homing method", kInteger8, kReadWrite, 0);
+  d.add({cia402::kHomingSwitchSpeed.index, 0}, "Highest sub-index supported", kUnsigned8, kConst,
+        2);
+  d.add(cia402::kHomingSwitchSpeed, "Speed during search for switch", kUnsigned32, kReadWrite, 0);
+  d.add(cia402::kHomingZeroSpeed, "Speed during search for zero", kUnsigned32, kReadWrite, 0);
+  d.add(cia402::kHomingAcceleration, "Homing acceleration", kUnsigned32, kReadWrite, 0);
   d.add(cia402::kVelocityOffset, "Velocity offset", kInteger32, kReadWrite, 0, true);
   d.add(cia402::kTorqueOffset, "Torque offset", kInteger16, kReadWrite, 0, true);
   d.add({cia402::kInterpolationTimePeriod.index, 0}, "Highest sub-index supported", kUnsigned8,
@@ -160,6 +170,10 @@ void EmulatedDrive::find_live_objects() {
   min_position_ = d.find(cia402::kMinSoftwarePositionLimit);
   max_position_ = d.find(cia402::kMaxSoftwarePositionLimit);
   max_velocity_ = d.find(cia402::kMaxProfileVelocity);
+  home_offset_ = d.find(cia402::kHomeOffset);
+  homing_method_ = d.find(cia402::kHomingMethod);
+  homing_switch_speed_ = d.find(cia402::kHomingSwitchSpeed);
+  homing_zero_speed_ = d.find(cia402::kHomingZeroSpeed);
 }
 
 }  // namespace cambio::virtual_rig

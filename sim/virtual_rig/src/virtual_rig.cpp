@@ -72,6 +72,10 @@ VirtualRig::VirtualRig(const config::RigConfig& rig, const BusOpener& open_bus,
       config.heartbeat_period_s = can_group.settings.heartbeat_period_s;
       config.mode = drive.mode;
       if (joint->limits.max_effort_nm > 0.0) config.rated_torque_nm = joint->limits.max_effort_nm;
+      if (joint_config->can) {
+        config.home_switch_rad = joint_config->can->virtual_home_switch_rad;
+        config.index_pulse_rad = joint_config->can->virtual_index_pulse_rad.value_or(0.0);
+      }
       bus->drives.push_back(std::make_unique<EmulatedDrive>(config, *bus->bus));
       bus->joints.push_back(joint_name);
     }

@@ -77,11 +77,12 @@ TEST(EdsFile, TheShippedEdsParsesClean) {
   const EdsReadResult result = read_eds_file(kShipped);
   ASSERT_TRUE(result.ok()) << issues_text(result);
   const EdsFile& eds = result.eds;
-  EXPECT_EQ(eds.rx_pdos, 2);
-  EXPECT_EQ(eds.tx_pdos, 2);
+  // CiA 301's predefined connection set: four of each.
+  EXPECT_EQ(eds.rx_pdos, 4);
+  EXPECT_EQ(eds.tx_pdos, 4);
   EXPECT_EQ(eds.find(std::uint16_t{0x1018})->entries.size(), 5u);
   EXPECT_EQ(eds.find(ObjectAddress{0x1800, 1})->default_value->evaluate(5), 0x40000185);
-  EXPECT_EQ(eds.find(ObjectAddress{0x6502, 0})->default_value->evaluate(1), 0x180);
+  EXPECT_EQ(eds.find(ObjectAddress{0x6502, 0})->default_value->evaluate(1), 0x1A0);  // HM, CSP, CSV
   EXPECT_EQ(eds.find(ObjectAddress{0x60C2, 2})->data_type->name, "INTEGER8");
   EXPECT_EQ(eds.find(ObjectAddress{0x6041, 0})->access, AccessType::kRo);
   EXPECT_TRUE(eds.find(ObjectAddress{0x607A, 0})->pdo_mappable);

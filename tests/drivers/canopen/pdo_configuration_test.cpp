@@ -29,6 +29,9 @@ std::vector<ObjectWrite> expected_csp_minimal_node3() {
       // RPDO2 unused: left invalid and empty.
       {{0x1401, 1}, 0x8000'0303, 4},
       {{0x1601, 0}, 0, 1},
+      // RPDO3, RPDO4 (0x400, 0x500 + node): invalidated, nothing more.
+      {{0x1402, 1}, 0x8000'0403, 4},
+      {{0x1403, 1}, 0x8000'0503, 4},
       // TPDO1: statusword + position actual; bit 30 = no RTR.
       {{0x1800, 1}, 0xC000'0183, 4},
       {{0x1A00, 0}, 0, 1},
@@ -39,7 +42,27 @@ std::vector<ObjectWrite> expected_csp_minimal_node3() {
       {{0x1800, 1}, 0x4000'0183, 4},
       {{0x1801, 1}, 0xC000'0283, 4},
       {{0x1A01, 0}, 0, 1},
+      // TPDO3, TPDO4 (0x380, 0x480 + node).
+      {{0x1802, 1}, 0xC000'0383, 4},
+      {{0x1803, 1}, 0xC000'0483, 4},
   };
+}
+
+TEST(PdoConfiguration, PdosTheDriveLacksAreNotTouched) {
+  // A drive with one PDO each way: only RPDO1 and TPDO1 are written.
+  PdoPresence one_each;
+  one_each.rpdos = {true, false, false, false};
+  one_each.tpdos = {true, false, false, false};
+  const auto writes = pdo_configuration_writes(
+      3, pdo_layout(hal::CommandMode::kPosition, canopen::CanGroupSettings{}), one_each);
+  std::vector<ObjectWrite> expected;
+  for (const ObjectWrite& write : expected_csp_minimal_node3()) {
+    const std::uint16_t index = write.object.index;
+    if (index == 0x1400 || index == 0x1600 || index == 0x1800 || index == 0x1A00) {
+      expected.push_back(write);
+    }
+  }
+  EXPECT_EQ(writes, expected);
 }
 
 TEST(PdoConfiguration, MinimalCspLayoutIsWrittenInCia301Order) {

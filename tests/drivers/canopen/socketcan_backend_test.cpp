@@ -115,6 +115,14 @@ TEST(SocketCanBackend, ConfigureEnableDeactivate) {
     EXPECT_EQ(drive->get(0x60C2, 1), 2u) << "500 Hz = 2 * 10^-3 s";
     EXPECT_EQ(drive->get(0x1A00, 0), 2u);
     EXPECT_EQ(drive->get(0x1400, 1), 0x200u + (drive.get() == f.drives[0].get() ? 1u : 2u));
+    // This drive has no PDO objects but those written to it: PDOs 2..4, which the layout does
+    // not use, were asked for (an abort: no such object) and never written.
+    for (const auto& write : drive->writes) {
+      if (write.index < 0x1400 || write.index > 0x1BFF) continue;
+      EXPECT_EQ(write.index & 0x3, 0) << std::hex << write.index << " only PDO 1 is touched";
+    }
+    EXPECT_FALSE(drive->has(0x1401, 1));
+    EXPECT_FALSE(drive->has(0x1803, 1));
   }
   // The reset came first: the drive's first frame is NMT reset communication for it.
   EXPECT_EQ(f.drives[0]->received.front().id, 0x000u);

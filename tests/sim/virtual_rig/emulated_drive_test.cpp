@@ -125,6 +125,50 @@ TEST(EmulatedDrive, PdoRemappingFollowsCiA301) {
   EXPECT_EQ(bench.upload(0x1A00, 2).value, 0x606C0020u);
 }
 
+TEST(EmulatedDrive, FourPdosEachWayOnThePredefinedConnectionSet) {
+  DriveBench bench;  // Node 3.
+  bench.power_on();
+  // CiA 301's predefined connection set: RPDO n at 0x100 (n + 1) + node, TPDO n at
+  // 0x100 n + 0x80 + node; PDOs 2..4 delivered invalid (bit 31).
+  for (std::uint16_t n = 2; n <= 4; ++n) {
+    SCOPED_TRACE(n);
+    EXPECT_EQ(bench.upload(static_cast<std::uint16_t>(0x1400 + n - 1), 1).value,
+              0x8000'0000u | (0x100u * (n + 1u) + 3u));
+    EXPECT_EQ(bench.upload(static_cast<std::uint16_t>(0x1800 + n - 1), 1).value & 0x8000'07FFu,
+              0x8000'0000u | (0x100u * n + 0x80u + 3u));
+  }
+  EXPECT_EQ(bench.upload(0x1A03, 0).value, 0u) << "empty";
+  // A standard master disables PDOs 2..4 (bit 31 set), then maps what it uses.
+  for (std::uint16_t n = 2; n <= 4; ++n) {
+    EXPECT_EQ(bench.write(static_cast<std::uint16_t>(0x1400 + n - 1), 1,
+                          0x8000'0000u | (0x100u * (n + 1u) + 3u), 4),
+              0u);
+    EXPECT_EQ(bench.write(static_cast<std::uint16_t>(0x1800 + n - 1), 1,
+                          0xC000'0000u | (0x100u * n + 0x80u + 3u), 4),
+              0u);
+  }
+  // Capacity: 8 entries per PDO.
+  EXPECT_EQ(bench.write(0x1A03, 0, 9, 1), 0x06090031u) << "value too high";
+  // TPDO3 carries the statusword, RPDO4 (event-driven) the controlword.
+  EXPECT_EQ(bench.write(0x1A02, 1, 0x60410010u, 4), 0u);
+  EXPECT_EQ(bench.write(0x1A02, 0, 1, 1), 0u);
+  EXPECT_EQ(bench.write(0x1802, 1, 0x40000383u, 4), 0u);
+  EXPECT_EQ(bench.write(0x1603, 1, 0x60400010u, 4), 0u);
+  EXPECT_EQ(bench.write(0x1603, 0, 1, 1), 0u);
+  EXPECT_EQ(bench.write(0x1403, 2, 255, 1), 0u);
+  EXPECT_EQ(bench.write(0x1403, 1, 0x00000503u, 4), 0u);
+  bench.nmt(0x01);
+  bench.exchange({frame(0x503, {0x06, 0x00})});  // Shutdown: transition 2.
+  EXPECT_EQ(bench.drive().drive_state(), hal::DriveState::kReadyToSwitchOn);
+  const auto frames = bench.sync();
+  const auto tpdo3 = with_id(frames, 0x383);
+  ASSERT_EQ(tpdo3.size(), 1u);
+  EXPECT_EQ(tpdo3[0].length, 2);
+  EXPECT_EQ(le_u16(tpdo3[0], 0) & 0x6F, 0x21) << "ready to switch on";
+  EXPECT_TRUE(with_id(frames, 0x283).empty()) << "TPDO2 disabled";
+  EXPECT_TRUE(with_id(frames, 0x483).empty()) << "TPDO4 disabled";
+}
+
 TEST(EmulatedDrive, TransmissionTypeSendsEveryNthSync) {
   DriveBench bench;
   bench.power_on();

@@ -66,6 +66,10 @@ struct ArmStatus {
   std::int64_t stamp_ns = 0;
   std::uint64_t commands_applied = 0;
   std::array<Arm, 2> arms{};  ///< [0] left, [1] right.
+  /// Frozen this cycle: a joint loop holds or an arm joint is not driven (CommandTracking).
+  bool joints_held = false;
+  /// An arm joint stopped following its command: the arms hold to the end of the run.
+  bool tracking_fault = false;
   /// Why the last refused command was refused (out of reach, beyond a joint limit, no
   /// fixation), NUL-terminated.
   std::array<char, 160> message{};

@@ -11,6 +11,7 @@
 #include "cambio/control/arm_command.hpp"
 #include "cambio/control/arm_reach_check.hpp"
 #include "cambio/control/believed_joints.hpp"
+#include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_command.hpp"
 #include "cambio/control/joint_frames.hpp"
 #include "cambio/control/kinematics.hpp"
@@ -47,6 +48,10 @@ struct ArmReachParams {
   double posture_gain_per_s = 0.0;
   HandPitchRange hand_pitches;
   double gripper_speed_rad_s = 0.0;  ///< Opening and closing.
+  /// How far each arm joint's command may lead its measured position before the loop faults
+  /// (CommandTracking), one per hardware.joints entry (rad); empty: unbounded. A closing gripper
+  /// is exempt: it squeezes what it holds.
+  std::vector<double> max_tracking_error_rad;
 };
 
 /// The arms' control loop (the paper's Control Module for the arms), at the control rate, named
@@ -71,6 +76,14 @@ struct ArmReachParams {
 /// It publishes targets for every rig joint (rig order; the arms' joints are its own, the others
 /// stay at the initial pose: the gaze loop overlays the arms' joints onto its own frame) and an
 /// ArmStatus each cycle.
+///
+/// The drives not following (CommandTracking): while a joint loop holds or an arm joint is not
+/// driven the loop freezes (commands are taken, nothing moves); on the first cycle they follow
+/// again it publishes the measured pose and resumes from it, a reach's speed ramped up from zero
+/// again. An arm joint whose command leads its measurement by more than its
+/// max_tracking_error_rad is a fault of this loop: it reports it (hal::Loop::fault_message),
+/// stops every reach, holds where the joints are, refuses later commands and returns kFault to
+/// the end of the run.
 ///
 /// Real-time: everything is allocated at construction; update() never allocates, reaching or
 /// not.
@@ -97,6 +110,9 @@ class ArmReachLoop final : public hal::Loop {
   const std::vector<int>& arm_rig_indices() const { return arm_rig_indices_; }
   /// The arm of a side, or null when the rig has none there.
   const ArmChain* arm(int side) const;
+  /// The arms' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from the
+  /// loop's thread or after the executor stopped.
+  const CommandTracking& tracking() const { return tracking_; }
 
  private:
   struct Arm {
@@ -112,9 +128,18 @@ class ArmReachLoop final : public hal::Loop {
     double gripper_goal_rad = 0.0;
     int move_joint = -1;  // Tree index of a kMoveJoint in progress.
     double move_goal_rad = 0.0;
+    std::int64_t ramp_from_ns = 0;  // The reach's speed cap grows from zero from here.
   };
 
   void apply(const ArmCommand& command, std::int64_t now_ns) noexcept;
+  // One cycle of the arms' motion (grippers, moves, reaches) while the joints follow.
+  void step_arms(std::int64_t now_ns, double dt_s) noexcept;
+  // The arms' status from the believed joints, then both channels written.
+  void publish(std::int64_t now_ns) noexcept;
+  // After a hold: the command at the measured pose, reaches ramped up again.
+  void restart_from_measured(std::int64_t now_ns) noexcept;
+  // A tracking fault: every reach stopped, the command where the joints are.
+  void stop_on_tracking_fault() noexcept;
   // apply()'s actions. kGrasp closes, kRelease opens the grippers of `sides`.
   void set_gripper_goals(ArmAction action, const std::array<bool, 2>& sides) noexcept;
   void move_joint(const ArmCommand& command) noexcept;
@@ -139,7 +164,7 @@ class ArmReachLoop final : public hal::Loop {
                               const Eigen::Matrix<double, 3, 4>& J_v,
                               Eigen::Vector4d& qdot) noexcept;
   // Integrates qdot into the commanded joints, capped and ramped.
-  void advance_joints(const Arm& arm, std::int64_t command_ns, std::int64_t now_ns, double dt_s,
+  void advance_joints(const Arm& arm, std::int64_t ramp_from_ns, std::int64_t now_ns, double dt_s,
                       const Eigen::Matrix<double, 3, 4>& J_v, const Eigen::Vector4d& qdot) noexcept;
   Eigen::Vector3d tip_W(const Kinematics& kinematics, const Arm& arm) const noexcept;
 
@@ -147,6 +172,8 @@ class ArmReachLoop final : public hal::Loop {
   ArmReachParams params_;
   std::array<Arm, 2> arms_;
   std::vector<int> arm_rig_indices_;
+  CommandTracking tracking_;
+  std::array<int, 2> gripper_tracked_{-1, -1};  // Each arm's gripper in tracking_'s joints.
   std::unique_ptr<detail::ArmReachLaw> law_;
   Kinematics command_kinematics_;   // At the commanded pose: the servo's.
   Kinematics believed_kinematics_;  // At the encoders: the status's.

@@ -30,12 +30,19 @@ class BelievedJoints {
 
   /// A joint loop holds (fault latched or feedback stale) in the newest frames.
   bool holding() const { return holding_; }
+  /// The joint follows its targets in the newest frame: reported, operation enabled, fresh and
+  /// fault-free. A joint that does not (disabled, homing, faulted) ignores what it is sent.
+  bool driven(int rig_index) const { return driven_[static_cast<std::size_t>(rig_index)] != 0; }
+  /// The joint's drive is enabled and fault-free in the newest frame, its reading fresh or not.
+  bool enabled(int rig_index) const { return enabled_[static_cast<std::size_t>(rig_index)] != 0; }
   int rig_joint_count() const { return rig_joint_count_; }
 
  private:
   std::vector<Source> sources_;
   std::vector<JointStateFrame> frames_;  // The last clean frame of each source.
   std::vector<std::uint8_t> reported_;   // Per rig joint.
+  std::vector<std::uint8_t> driven_;     // Per rig joint, in the newest frames.
+  std::vector<std::uint8_t> enabled_;    // Per rig joint, in the newest frames.
   int rig_joint_count_ = 0;
   bool holding_ = false;
 };

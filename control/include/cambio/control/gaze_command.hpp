@@ -51,6 +51,7 @@ enum class GazeRefusal : std::uint8_t {
   kOutOfReach,          ///< No head pose within the joints' limits looks at it.
   kSaccadeUnplannable,  ///< The joints' velocity and acceleration limits give no saccade.
   kNotAHeadJoint,       ///< A joint move for a joint the gaze does not drive.
+  kTrackingFault,       ///< A head joint stopped following its command: the loop holds.
 };
 
 constexpr std::string_view to_string(GazeRefusal refusal) {
@@ -65,6 +66,8 @@ constexpr std::string_view to_string(GazeRefusal refusal) {
       return "no saccade within the joints' velocity and acceleration limits";
     case GazeRefusal::kNotAHeadJoint:
       return "not a head joint, or a position beyond its limits";
+    case GazeRefusal::kTrackingFault:
+      return "a head joint does not follow its command (tracking fault): the head holds";
   }
   return "unknown";
 }
@@ -77,6 +80,10 @@ struct GazeStatus {
   std::uint64_t commands_refused = 0;
   GazeRefusal last_refusal = GazeRefusal::kNone;  ///< Why the newest refused command was.
   bool saccade_active = false;  ///< The dominant eye is on a saccade's trajectory.
+  /// Frozen this cycle: a joint loop holds or a head joint is not driven (CommandTracking).
+  bool joints_held = false;
+  /// A head joint stopped following its command: the loop holds to the end of the run.
+  bool tracking_fault = false;
   bool target_set = false;
   /// The point the dominant eye is servoed to, from its own kinematics (base frame, m); a
   /// target given as a direction is placed at the servo's default depth.

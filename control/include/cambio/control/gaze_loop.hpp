@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "cambio/control/believed_joints.hpp"
+#include "cambio/control/command_tracking.hpp"
 #include "cambio/control/fixation_servo.hpp"
 #include "cambio/control/gaze_command.hpp"
 #include "cambio/control/head_joints.hpp"
@@ -42,6 +43,9 @@ struct GazeLoopParams {
   double pursuit_lead = 0.0;
   /// Time constant of the pursued target's angular velocity filter (s).
   double pursuit_velocity_filter_s = 0.1;
+  /// How far each head joint's command may lead its measured position before the loop faults
+  /// (CommandTracking), one per hardware.joints entry (rad); empty: unbounded.
+  std::vector<double> max_tracking_error_rad;
 };
 
 /// The head's control loop (the paper's Control Module for gaze), at the control rate:
@@ -63,6 +67,15 @@ struct GazeLoopParams {
 ///    reports), motion only while pursuing.
 /// Joints outside the head hold their initial pose, or follow the overlay (set_overlay()). The
 /// loop publishes targets for every rig joint and a GazeStatus each cycle.
+///
+/// The drives not following (CommandTracking): while a joint loop holds or a head joint is not
+/// driven the loop freezes (commands are taken, nothing moves: no servo, no saccade time, no
+/// vergence correction); on the first cycle they follow again it publishes the measured pose
+/// and restarts from it (a saccade is planned again from there to its target). A head joint
+/// whose command leads its measurement by more than its max_tracking_error_rad is a fault of
+/// this loop: it reports it (hal::Loop::fault_message), holds where the joints are, refuses
+/// every later motion (GazeRefusal::kTrackingFault) and returns kFault to the end of the run.
+/// A joint move (kMoveJoint) goes at the joint's velocity limit.
 ///
 /// Real-time: everything is allocated at construction; update() never allocates.
 class GazeLoop final : public hal::Loop {
@@ -107,6 +120,9 @@ class GazeLoop final : public hal::Loop {
   /// Returns to the anchored vergence (the last one verged on the current target) when a
   /// measurement asked for it again after the verging eye had been drawn off.
   std::uint64_t anchor_returns() const { return anchor_returns_; }
+  /// The head joints' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from
+  /// the loop's thread or after the executor stopped.
+  const CommandTracking& tracking() const { return tracking_; }
 
   /// Once the vergence error has been below kVergedRad, an error above kVergenceJumpRad needs a
   /// second measurement to confirm it (see verge()).
@@ -133,6 +149,16 @@ class GazeLoop final : public hal::Loop {
   };
 
   void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
+  /// The head's command set to the measured pose after the joints held; a saccade in progress
+  /// is planned again from there.
+  void restart_from_measured(std::int64_t now_ns) noexcept;
+  /// A kMoveJoint in progress: one step toward its goal at the joint's velocity limit.
+  void step_move(double dt_s) noexcept;
+  /// The head's command where the joints are, every motion stopped: a tracking fault.
+  void stop_on_tracking_fault() noexcept;
+  /// The vergence the commanded eye pans make (>= 0 converged, as vergence_rad_ counts it).
+  double commanded_vergence_rad() const noexcept;
+  void write_targets(std::int64_t now_ns) noexcept;
   /// Whether the dominant eye's fovea shows the surface it showed a frame ago (its motion
   /// estimate: small flow, small residual at the finest level).
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
@@ -159,6 +185,7 @@ class GazeLoop final : public hal::Loop {
   hal::Eye verging_;
   std::unique_ptr<FixationServo> servo_;
   HeadJoints head_;
+  CommandTracking tracking_;
   Kinematics believed_kinematics_;
   VergenceController vergence_controller_;
   PursuitTracker pursuit_;
@@ -197,6 +224,8 @@ class GazeLoop final : public hal::Loop {
   Mode mode_ = Mode::kHold;
   bool verge_ = false;
   bool target_set_ = false;
+  int move_joint_ = -1;  // Tree index of a kMoveJoint in progress.
+  double move_goal_rad_ = 0.0;
   Eigen::Vector4d target_W_ = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
   double pursuit_depth_m_ = 1.0;
   double vergence_rad_ = 0.0;

@@ -23,11 +23,20 @@ CanRigInfo can_rig_from_config(const config::RigConfig& rig) {
   }
   for (const auto& joint : rig.joints) {
     if (!joint.can) continue;
-    can_rig.drives[joint.name] = JointDriveInfo{
-        joint.can->node_id, joint.can->gear_ratio, joint.can->encoder_counts_per_rev,
-        joint.can->following_error_window_rad,
-        joint.servo.command == config::ServoCommandMode::kVelocity ? hal::CommandMode::kVelocity
-                                                                   : hal::CommandMode::kPosition};
+    JointDriveInfo drive;
+    drive.node_id = joint.can->node_id;
+    drive.gear_ratio = joint.can->gear_ratio;
+    drive.encoder_counts_per_rev = joint.can->encoder_counts_per_rev;
+    drive.following_error_window_rad = joint.can->following_error_window_rad;
+    drive.mode = joint.servo.command == config::ServoCommandMode::kVelocity
+                     ? hal::CommandMode::kVelocity
+                     : hal::CommandMode::kPosition;
+    if (const auto& homing = joint.can->homing) {
+      drive.homing = HomingSettings{homing->method,           homing->switch_speed_rad_s,
+                                    homing->zero_speed_rad_s, homing->acceleration_rad_s2,
+                                    homing->offset_rad,       homing->timeout_s};
+    }
+    can_rig.drives[joint.name] = drive;
   }
   return can_rig;
 }

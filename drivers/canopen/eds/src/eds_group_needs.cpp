@@ -55,8 +55,17 @@ std::vector<ObjectUse> master_object_uses(const CanGroupView& view, std::size_t 
   uses.push_back({ObjectUse::Kind::kRead, {{kDeviceType, 0}, 0, 4}});
   std::vector<ObjectWrite> writes = drive_parameter_writes(view.joints.at(joint), drive, view.group,
                                                            view.settings, view.group.rate_hz);
-  const std::vector<ObjectWrite> pdos =
-      pdo_configuration_writes(drive.node_id, master_pdo_layout(view));
+  const std::vector<ObjectWrite> homing = homing_parameter_writes(view.joints.at(joint), drive);
+  writes.insert(writes.end(), homing.begin(), homing.end());
+  // The PDOs the layout leaves empty the master only disables where the drive has them
+  // (pdo_configuration.hpp): they are no need.
+  const PdoLayout layout = master_pdo_layout(view);
+  PdoPresence mapped;
+  for (std::size_t k = 0; k < mapped.rpdos.size(); ++k) {
+    mapped.rpdos[k] = k < layout.rpdos.size() && !layout.rpdos[k].empty();
+    mapped.tpdos[k] = k < layout.tpdos.size() && !layout.tpdos[k].empty();
+  }
+  const std::vector<ObjectWrite> pdos = pdo_configuration_writes(drive.node_id, layout, mapped);
   writes.insert(writes.end(), pdos.begin(), pdos.end());
   for (const ReconfigurationStep& step : reconfiguration_plan(writes)) {
     switch (step.kind) {
@@ -89,8 +98,8 @@ ObjectPurpose object_purpose(ObjectAddress object, const CanGroupView& view, std
   }
   if (index >= kRpdoCommunication && index < kTpdoMapping + 0x200) {
     return {
-        "PDO configuration: the master sets up RPDO1-2 and TPDO1-2, disabling those it "
-        "leaves empty",
+        "PDO configuration: the master sets up the PDOs it maps (RPDO1-2, TPDO1-2) and "
+        "disables the others the drive has",
         group_key + ".can.feedforward / .can.feedback"};
   }
   if (object == cia402::kModesOfOperation) {
@@ -118,6 +127,10 @@ ObjectPurpose object_purpose(ObjectAddress object, const CanGroupView& view, std
   }
   if (object == cia402::kVelocityActualValue || object == cia402::kTorqueActualValue) {
     return {"feedback in TPDO2", group_key + ".can.feedback", true};
+  }
+  if (object == cia402::kHomingMethod || index == cia402::kHomingSwitchSpeed.index ||
+      object == cia402::kHomingAcceleration || object == cia402::kHomeOffset) {
+    return {"homing (CiA 402 mode 6) at the start of a run", joint_key + ".can.homing", true};
   }
   if (object == cia402::kTargetPosition || object == cia402::kTargetVelocity) {
     return {"the cyclic target in RPDO1", joint_key + ".servo.command"};

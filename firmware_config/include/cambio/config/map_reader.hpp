@@ -97,6 +97,8 @@ class MapReader {
   bool has(std::string_view key) const;
   /// Whether `key` holds a list (for a key that takes a name or a list of numbers).
   bool is_list(std::string_view key) const;
+  /// Whether `key` holds a map (for a key that takes a word or a map: `homing: none`).
+  bool is_map(std::string_view key) const;
 
   double number(std::string_view key, Range range = {});
   double number_or(std::string_view key, double fallback, Range range = {});

@@ -3,13 +3,16 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "cambio/config/camera_device_config.hpp"
 #include "cambio/config/config_error.hpp"
 #include "cambio/config/render_device.hpp"
+#include "cambio/hal/camera.hpp"
 
 namespace cambio::config {
 
@@ -40,7 +43,29 @@ struct JointCanConfig {
   std::int64_t encoder_counts_per_rev = 0;  ///< Motor encoder counts per motor turn.
   /// CiA 402 following error window (0x6065); 0 = leave the drive's own setting.
   double following_error_window_rad = 0.0;
+  /// `homing: {method, ...}` (CiA 402 homing mode 6, canopen::HomingSettings); none (`homing:
+  /// none`, the default) for an absolute encoder.
+  struct Homing {
+    int method = 0;
+    double switch_speed_rad_s = 0.0;
+    double zero_speed_rad_s = 0.0;
+    double acceleration_rad_s2 = 0.0;
+    double offset_rad = 0.0;
+    double timeout_s = 0.0;
+  };
+  std::optional<Homing> homing;
+  /// What only the virtual drive (`cambio virtual-rig`) reads: where its emulated limit switch and
+  /// encoder index pulse are, in the joint's own angle (`virtual_drive: {home_switch_deg,
+  /// index_pulse_deg}`). The index pulse repeats every motor turn (360 deg / gear_ratio).
+  std::optional<double> virtual_home_switch_rad;
+  std::optional<double> virtual_index_pulse_rad;
 };
+
+/// A joint's max_tracking_error_rad when its rig entry gives none: 20 deg, well above what a
+/// command leads a joint at its limits (the shipped experiments peak at 7.5 deg: an eye in a
+/// 430 deg/s saccade, a shoulder in a reach), well below a stale target's jump (the wind-up seen
+/// on a held head was 25 deg).
+inline constexpr double kDefaultMaxTrackingError_rad = 20.0 * std::numbers::pi / 180.0;
 
 /// A revolute joint (every joint of the Câmbio robot turns, the grippers' fingers included).
 struct JointConfig {
@@ -58,6 +83,11 @@ struct JointConfig {
   double max_velocity_rad_s = 0.0;
   double max_acceleration_rad_s2 = 0.0;
   double max_effort_nm = 0.0;  ///< 0 = not limited by the stack (the drive limits it).
+  /// How far a controller's command may lead this joint's measured position before it is a
+  /// fault of that controller (a drive that does not follow while nothing says so): the
+  /// `max_tracking_error_deg/_rad` key, by default kDefaultMaxTrackingError_rad or the joint's
+  /// travel if that is shorter.
+  double max_tracking_error_rad = 0.0;
   double initial_position_rad = 0.0;
   ServoConfig servo;
   std::optional<JointCanConfig> can;
@@ -122,9 +152,12 @@ struct CameraConfig {
   double focal_y_px = 0.0;
   double principal_x_px = 0.0;  ///< From the top-left pixel's centre.
   double principal_y_px = 0.0;
+  /// The `distortion` key, or the rig's camera_calibration file; zero (a pinhole) when absent.
+  hal::PlumbBobDistortion distortion;
   PixelFormatConfig format = PixelFormatConfig::kRgb8;
   double image_noise_std = 0.0;  ///< Sim: Gaussian noise on grey levels (0-255 scale).
   SimFoveationConfig sim_foveation;
+  CameraDeviceConfig device;  ///< A real camera's device node and mode (v4l2).
 };
 
 struct StereoConfig {

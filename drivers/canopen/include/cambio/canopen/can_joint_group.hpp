@@ -12,7 +12,9 @@
 // positions until a fault reset. A fault reset also clears a bus fault once the bus carries frames
 // again (after the kernel's restart-ms), and replays the configuration of drives that rebooted
 // (node_reconfiguration.hpp), one SDO exchange per cycle; such a drive is enabled again only by a
-// later enable request, at its measured position.
+// later enable request, at its measured position. A joint whose rig sets homing is kept disabled
+// (controlword 0, target its measured position) until it has homed (set_homed), and again once
+// its drive reboots: its reference is gone.
 // The group is the bus's SYNC producer: one CAN group per bus.
 // read/write/sync/request: no allocation, no lock, no blocking, one send system call per cycle.
 
@@ -24,6 +26,7 @@
 
 #include "cambio/canopen/cia402_drive.hpp"
 #include "cambio/canopen/emcy_consumer.hpp"
+#include "cambio/canopen/homing.hpp"
 #include "cambio/canopen/nmt_master.hpp"
 #include "cambio/canopen/node_reconfiguration.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
@@ -94,6 +97,16 @@ class CanJointGroup final : public hal::JointGroup {
   void set_configuration(std::size_t joint, std::span<const ObjectWrite> writes);
   /// Why the last loop-side reconfiguration failed (node_id 0: none failed). Thread-safe.
   ReconfigurationError last_reconfiguration_error() const;
+  /// The joint's drive homed at activate (homing.hpp): from now on it may be enabled and driven.
+  /// Outside the loop. A joint whose rig sets homing and that has not homed, or whose drive
+  /// rebooted since (its reference is gone), is kept disabled and never commanded in CSP or CSV.
+  void set_homed(std::size_t joint, HomingRecord record);
+  /// Whether the joint must home and has (always true for a joint that does not home). Loop
+  /// thread, or before the loops start.
+  bool homed(std::size_t joint) const { return !slots_[joint].must_home || slots_[joint].homed; }
+  /// How each joint's homing went (joints that homed, in the order they did). Read it once the
+  /// loops stopped.
+  const std::vector<HomingRecord>& homing_records() const { return homing_records_; }
   /// Starts watching heartbeats and SYNC answers (activate()).
   void arm(std::int64_t now_ns);
   /// Drives that sent a boot-up since arm(): their configuration is gone until replayed.
@@ -118,6 +131,8 @@ class CanJointGroup final : public hal::JointGroup {
     int missed_syncs = 0;
     bool answered = false;  ///< A TPDO1 since the last SYNC.
     std::uint32_t clamped_bits = 0;
+    bool must_home = false;  ///< The rig sets homing for this joint.
+    bool homed = false;      ///< Homed since the drive last booted.
   };
 
   void dispatch(const hal::CanFrame& frame, std::int64_t now_ns);
@@ -151,6 +166,7 @@ class CanJointGroup final : public hal::JointGroup {
   int reconfiguring_ = -1;  ///< The joint being reconfigured, or -1.
   std::int64_t sdo_timeout_ns_ = 0;
   hal::SeqlockChannel<ReconfigurationError> last_error_;
+  std::vector<HomingRecord> homing_records_;
 
   struct AtomicCounters {
     std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,20 @@ struct CanGroupSettings {
   bool effort_feedback = false;
 };
 
+/// How a drive finds its reference (CiA 402 homing mode 6), for joints without absolute encoders.
+/// Written to 0x6098, 0x6099:1/2, 0x609A and 0x607C in the drive's counts; homing runs at
+/// activate, before the joint is ever commanded in CSP or CSV.
+struct HomingSettings {
+  int method = 0;  ///< CiA 402 homing method (0x6098), e.g. 17/18 limit switch, 33/34 index.
+  double switch_speed_rad_s = 0.0;   ///< 0x6099:1, the search for the switch.
+  double zero_speed_rad_s = 0.0;     ///< 0x6099:2, the search for the edge or index pulse.
+  double acceleration_rad_s2 = 0.0;  ///< 0x609A.
+  /// CiA 402's home offset (0x607C): the zero position is the home position plus this, so at
+  /// the home position the joint reads -offset_rad.
+  double offset_rad = 0.0;
+  double timeout_s = 0.0;  ///< The master gives up (homing timeout) after this long.
+};
+
 /// The CiA 402 drive behind a joint: what the master needs to address it, convert units and
 /// write its parameters (position limits and max velocity come from the joint's limits).
 struct JointDriveInfo {
@@ -51,6 +66,8 @@ struct JointDriveInfo {
   double following_error_window_rad = 0.0;
   /// Cyclic synchronous position (default) or cyclic synchronous velocity.
   hal::CommandMode mode = hal::CommandMode::kPosition;
+  /// None: the encoder is absolute, the drive is driven from where it says the joint is.
+  std::optional<HomingSettings> homing;
 };
 
 /// One joint group's CANopen side.

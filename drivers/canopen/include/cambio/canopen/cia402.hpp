@@ -41,12 +41,19 @@ inline constexpr ObjectAddress kInterpolationTimePeriod{0x60C2, 1};   ///< UNSIG
 inline constexpr ObjectAddress kInterpolationTimeIndex{0x60C2, 2};    ///< INTEGER8, 10^index s
 inline constexpr ObjectAddress kTargetVelocity{0x60FF, 0};            ///< INTEGER32, counts/s
 inline constexpr ObjectAddress kSupportedDriveModes{0x6502, 0};       ///< UNSIGNED32
+// Homing (CiA 402-2 §12).
+inline constexpr ObjectAddress kHomeOffset{0x607C, 0};          ///< INTEGER32, counts
+inline constexpr ObjectAddress kHomingMethod{0x6098, 0};        ///< INTEGER8
+inline constexpr ObjectAddress kHomingSwitchSpeed{0x6099, 1};   ///< UNSIGNED32, counts/s
+inline constexpr ObjectAddress kHomingZeroSpeed{0x6099, 2};     ///< UNSIGNED32, counts/s
+inline constexpr ObjectAddress kHomingAcceleration{0x609A, 0};  ///< UNSIGNED32, counts/s2
 
 /// Device type (0x1000) of a CiA 402 servo drive: profile 402, "servo drive" type bits.
 inline constexpr std::uint32_t kDeviceTypeServoDrive = 0x0002'0192;
 
 /// Modes of operation (0x6060) the stack uses.
 enum class Mode : std::int8_t {
+  kHoming = 6,
   kCyclicSynchronousPosition = 8,
   kCyclicSynchronousVelocity = 9,
 };
@@ -66,6 +73,18 @@ inline constexpr std::uint16_t kStatusInternalLimitActive = 1u << 11;
 /// CSP/CSV: the drive follows the target (1) or ignores it (0).
 inline constexpr std::uint16_t kStatusDriveFollowsCommand = 1u << 12;
 inline constexpr std::uint16_t kStatusFollowingError = 1u << 13;
+// Homing mode (6) gives bits 10, 12 and 13 their own meaning (CiA 402-2 Table 73):
+//   13 12 10
+//    0  0  0  homing in progress
+//    0  0  1  homing interrupted or not started
+//    0  1  0  homing attained, target not reached (still moving onto the home position)
+//    0  1  1  homing completed successfully
+//    1  0  0  homing error, velocity not 0
+//    1  0  1  homing error, velocity 0
+inline constexpr std::uint16_t kStatusHomingAttained = 1u << 12;
+inline constexpr std::uint16_t kStatusHomingError = 1u << 13;
+/// Controlword bit 4 in homing mode: its rising edge starts homing, clearing it interrupts.
+inline constexpr std::uint16_t kControlHomingStart = 1u << 4;
 
 /// The drive state a statusword encodes (CiA 402-2 Table 30). Bits outside the state pattern
 /// are ignored.

@@ -44,10 +44,14 @@ class Cia402Drive {
   hal::DriveRequest requested() const { return request_; }
 
   /// This cycle's controlword and targets. `command` is already clamped; `hold` (a fault or loss
-  /// in the group) turns an enable into a quick stop and the target into the measured position.
-  DriveTargets next_targets(const hal::JointCommand& command, bool hold) {
+  /// in the group) turns an enable into a quick stop and the target into the measured position;
+  /// `unhomed` (a joint that must home and has not) turns it into disable: never driven.
+  DriveTargets next_targets(const hal::JointCommand& command, bool hold, bool unhomed = false) {
     hal::DriveRequest effective = request_;
     if (hold && effective == hal::DriveRequest::kEnable) effective = hal::DriveRequest::kQuickStop;
+    if (unhomed && effective != hal::DriveRequest::kFaultReset) {
+      effective = hal::DriveRequest::kDisable;
+    }
     controlword_ = cia402::controlword_toward(state_, effective, controlword_);
 
     // Driven only after a whole cycle seen enabled, and never while holding.

@@ -10,6 +10,7 @@
 //   0x6065     following error window, counts (only when the rig sets it)
 //   0x1017     producer heartbeat time, ms, from the group's heartbeat period
 //   0x60C2:1/2 interpolation time period: value * 10^index s = the group's SYNC period
+// and, for a joint that homes, the homing parameters (homing_parameter_writes).
 
 #include <cstdint>
 #include <vector>
@@ -49,5 +50,12 @@ std::vector<ObjectWrite> drive_parameter_writes(const hal::JointInfo& joint,
                                                 const JointDriveInfo& drive,
                                                 const hal::JointGroupInfo& group,
                                                 const CanGroupSettings& settings, double rate_hz);
+
+/// The homing parameters of a joint that homes (none for `drive.homing` unset), in the drive's
+/// units: 0x6098 method, 0x6099:1/2 switch and zero speeds (counts/s), 0x609A acceleration
+/// (counts/s2), 0x607C home offset (counts, signed as the gear turns). Throws
+/// std::invalid_argument naming the joint for a value beyond the objects' types.
+std::vector<ObjectWrite> homing_parameter_writes(const hal::JointInfo& joint,
+                                                 const JointDriveInfo& drive);
 
 }  // namespace cambio::canopen

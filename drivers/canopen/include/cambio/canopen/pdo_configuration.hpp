@@ -9,8 +9,11 @@
 //   5. transmission type (sub 2) = 1: synchronous, every SYNC
 //   6. COB-ID without bit 31: valid again (TPDOs also set bit 30, no RTR)
 // A PDO the layout leaves empty is left invalid with no entries, so the drive never sends or
-// expects it.
+// expects it; one the drive does not have is not touched (a drive with one PDO each way fits).
+// PDOs 3 and 4, which the layout never uses, are only invalidated (COB-ID bit 31), where the
+// drive has them: a drive that ships them valid would otherwise answer every SYNC with them.
 
+#include <array>
 #include <vector>
 
 #include "cambio/canopen/object_write.hpp"
@@ -18,7 +21,16 @@
 
 namespace cambio::canopen {
 
+/// Which of CiA 301's four RPDOs and four TPDOs (its predefined connection set) a drive has: the
+/// master asks it (an SDO read of each communication object's COB-ID) for the PDOs the layout
+/// does not use.
+struct PdoPresence {
+  std::array<bool, 4> rpdos{true, true, true, true};
+  std::array<bool, 4> tpdos{true, true, true, true};
+};
+
 /// The exact SDO writes that configure `layout` on `node_id`, in order.
-std::vector<ObjectWrite> pdo_configuration_writes(int node_id, const PdoLayout& layout);
+std::vector<ObjectWrite> pdo_configuration_writes(int node_id, const PdoLayout& layout,
+                                                  const PdoPresence& present = {});
 
 }  // namespace cambio::canopen

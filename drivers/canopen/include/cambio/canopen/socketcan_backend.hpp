@@ -10,8 +10,10 @@
 //                       node, object, value written and value read), read the rated torque when
 //                       effort is fed forward or fed back, read each drive's state and position,
 //                       NMT start; the writes are kept for replaying on a drive that reboots
-//   activate()          heartbeat and SYNC-answer watching starts; drives are enabled by the joint
-//                       loop's requests, at their measured positions
+//   activate()          the joints whose rig sets `homing` home (homing.hpp), one after the
+//                       other, each failure naming node and joint; then heartbeat and SYNC-answer
+//                       watching starts; drives are enabled by the joint loop's requests, at their
+//                       measured positions
 //   deactivate()        quick stop, then disable every drive, then NMT enter pre-operational
 //                       (also on SIGINT); noexcept, idempotent. Called once the loops stopped.
 
@@ -74,6 +76,7 @@ class SocketCanBackend final : public hal::Backend {
     std::string group;  ///< The one group whose SYNC drives this bus.
   };
   void configure_group(CanJointGroup& group, const hal::JointGroupInfo& info);
+  void home_group(CanJointGroup& group, const hal::JointGroupInfo& info);
 
   hal::HardwareInfo hardware_;
   CanRigInfo can_rig_;

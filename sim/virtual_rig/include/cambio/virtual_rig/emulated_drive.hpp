@@ -3,6 +3,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "cambio/canopen/cia402.hpp"
@@ -31,6 +32,14 @@ struct EmulatedDriveConfig {
   double heartbeat_period_s = 0.1;     ///< 0x1017's default (ms on the bus); 0 = none.
   hal::CommandMode mode = hal::CommandMode::kPosition;  ///< 0x6060's default (CSP or CSV).
   double rated_torque_nm = 1.0;  ///< 0x6076 (the unit of 0x6077 and 0x60B2: 1/1000 of it).
+  /// Homing's limit switch, in the joint's angle (the rig's can.virtual_drive.home_switch): for
+  /// method 17 the negative limit switch, active at and below it; for 18 the positive one,
+  /// active at and above it. None: no switch is wired, a search ends at the joint's limit with a
+  /// homing error.
+  std::optional<double> home_switch_rad;
+  /// One of the encoder's index pulses, in the joint's angle; they repeat every motor turn
+  /// (2 pi / gear_ratio of joint angle). The rig's can.virtual_drive.index_pulse (default 0).
+  double index_pulse_rad = 0.0;
 };
 
 /// Counters of what the drive saw and did, for tests and the command's report.
@@ -52,7 +61,7 @@ struct EmulatedDriveCounters {
 ///   pre-operational; start, stop, enter pre-operational. SDO in pre-operational and
 ///   operational, PDOs in operational only, only NMT and heartbeat in stopped.
 /// - Heartbeat producer every 0x1017 ms (0 = off); SYNC consumer on 0x1005's COB-ID.
-/// - PDOs: 2 RPDOs and 2 TPDOs whose communication (0x1400/0x1800) and mapping (0x1600/0x1A00)
+/// - PDOs: 4 RPDOs and 4 TPDOs whose communication (0x1400/0x1800) and mapping (0x1600/0x1A00)
 ///   objects follow CiA 301: mapping writable only while the PDO's COB-ID is invalid (bit 31) and
 ///   its count (sub 0) is 0; mapped objects must exist, be PDO-mappable with the right length and
 ///   fit 8 bytes. Synchronous RPDOs (type 0..240) take effect on the next SYNC, event RPDOs
@@ -60,6 +69,8 @@ struct EmulatedDriveCounters {
 ///   the data changed). Remote requests are not answered (no RTR).
 /// - On SYNC: the servo model runs up to the SYNC's time, the actual values are sampled and the
 ///   TPDOs sent, then the targets received since the last SYNC are latched for the next cycle.
+/// - Homing (mode 6, emulated_drive_homing.cpp): methods 17/18 (limit switch), 33/34 (index
+///   pulse), 35/37 (current position); any other 0x6098 value is refused with an SDO abort.
 /// - CiA 402 state machine on the controlword; modes 8 (CSP) and 9 (CSV); enable at the measured
 ///   position (no jump), quick stop on the deceleration ramp (then holds: quick stop option 6),
 ///   following error (|demand - actual| > 0x6065 -> fault, EMCY 0x8611); EMCY on every fault and
@@ -68,7 +79,9 @@ struct EmulatedDriveCounters {
 /// allocates.
 class EmulatedDrive final : private SdoTarget {
  public:
-  static constexpr int kPdoCount = 2;
+  /// CiA 301's predefined connection set: four RPDOs (0x200/0x300/0x400/0x500 + node id) and
+  /// four TPDOs (0x180/0x280/0x380/0x480 + node id), each with kMaxMappedObjects entries.
+  static constexpr int kPdoCount = 4;
   static constexpr std::size_t kMaxMappedObjects = 8;
   static constexpr std::size_t kMaxScheduledFaults = 16;
   static constexpr std::size_t kMaxLateFrames = 16;
@@ -151,6 +164,23 @@ class EmulatedDrive final : private SdoTarget {
   void apply_rpdo(const Pdo& pdo, std::span<const std::uint8_t> data) noexcept;
   void send_tpdos(std::int64_t now_ns) noexcept;
 
+  // Homing (emulated_drive_homing.cpp).
+  enum class HomingPhase : std::uint8_t {
+    kIdle,      ///< Not started, or interrupted (bit 4 low, mode or state left).
+    kSearch,    ///< At the switch speed towards the limit switch.
+    kEdge,      ///< At the zero speed: off the switch (17/18), or to an index pulse (33/34).
+    kToHome,    ///< Home found (attained): moving back onto the home position.
+    kAttained,  ///< Standing at the home position: homing completed.
+    kError,     ///< The joint's limit was reached without finding the switch.
+  };
+  static bool homing_method_supported(std::int8_t method) noexcept;
+  void start_homing() noexcept;
+  void step_homing() noexcept;
+  void home_found(double home_rad) noexcept;
+  std::uint16_t homing_status_bits() const noexcept;
+  /// The drive's position frame: after homing its zero is origin_rad_ of the joint's angle.
+  double to_drive_rad(double joint_rad) const { return joint_rad - origin_rad_; }
+
   void advance_servo(std::int64_t now_ns) noexcept;
   void on_controlword(std::uint16_t controlword) noexcept;
   void enter(hal::DriveState state) noexcept;
@@ -190,6 +220,12 @@ class EmulatedDrive final : private SdoTarget {
   int tpdos_to_delay_ = 0;
   std::int64_t tpdo_delay_ns_ = 0;
 
+  HomingPhase homing_phase_ = HomingPhase::kIdle;
+  double homing_direction_ = 0.0;  ///< -1 or +1: where the search goes.
+  double home_rad_ = 0.0;          ///< The home position found, in the joint's angle.
+  double homing_last_rad_ = 0.0;   ///< The joint's angle at the previous servo step.
+  double origin_rad_ = 0.0;        ///< The drive's zero in the joint's angle (0 until homed).
+
   std::array<Pdo, kPdoCount> rpdos_{};
   std::array<Pdo, kPdoCount> tpdos_{};
   std::array<LateFrame, kMaxLateFrames> late_{};
@@ -220,6 +256,10 @@ class EmulatedDrive final : private SdoTarget {
   ObjectEntry* min_position_ = nullptr;
   ObjectEntry* max_position_ = nullptr;
   ObjectEntry* max_velocity_ = nullptr;
+  ObjectEntry* home_offset_ = nullptr;
+  ObjectEntry* homing_method_ = nullptr;
+  ObjectEntry* homing_switch_speed_ = nullptr;
+  ObjectEntry* homing_zero_speed_ = nullptr;
 };
 
 }  // namespace cambio::virtual_rig

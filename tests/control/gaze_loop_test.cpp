@@ -117,6 +117,8 @@ class GazeHarness {
             std::optional<double> forced_disparity_px = std::nullopt) {
     if (object_W != nullptr && cycle_ % kCyclesPerFrame == 0) {
       publish_frame(*object_W, forced_disparity_px);
+      // The joint loop holds for this one cycle (a late answer on a loaded bus).
+      if (hold_at_frames_) publish_states(/*holding=*/true);
     }
     hal::LoopTick tick;
     tick.cycle = cycle_++;
@@ -171,6 +173,8 @@ class GazeHarness {
   /// Whether the frames say the dominant fovea's content is unchanged (motion found at the
   /// finest level with a small residual), as when nothing crosses the dominant eye's view.
   void set_steady_fovea(bool steady) { steady_fovea_ = steady; }
+  /// Whether the joint loop holds for the one cycle on which each frame's summary lands.
+  void set_hold_at_frames(bool hold) { hold_at_frames_ = hold; }
   const GazeLoop& loop() const { return *loop_; }
   GazeLoop& loop() { return *loop_; }
   /// What the loop's update() took from the heap over every step() so far.
@@ -202,8 +206,9 @@ class GazeHarness {
     const auto& k = camera(eye).intrinsics;
     return {k.focal_x_px * p_C.x() / p_C.z(), k.focal_y_px * p_C.y() / p_C.z()};
   }
-  void publish_states() {
+  void publish_states(bool holding = false) {
     JointStateFrame frame;
+    frame.holding = holding;
     frame.count = static_cast<int>(q_rig_.size());
     for (std::size_t i = 0; i < q_rig_.size(); ++i) {
       frame.states[i].position_rad = q_rig_[i];
@@ -263,6 +268,7 @@ class GazeHarness {
   bool have_previous_frame_ = false;
   UpdateHeapUse heap_use_;
   bool steady_fovea_ = false;
+  bool hold_at_frames_ = false;
 };
 
 // Eye height in the shipped rig: neck 1.20 + 0.10 + 0.10 m; pan axes at x = 0.04 m.
@@ -314,6 +320,20 @@ TEST(GazeLoop, VergesOnWhatTheDominantEyeFixates) {
   EXPECT_TRUE(head.status().believed_fixation_valid);
   const auto p = head.status().believed_fixation_W_m;
   EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - sphere).norm(), 0.01);
+}
+
+TEST(GazeLoop, AMeasurementThatLandsDuringABriefHoldIsUsedAfterIt) {
+  // Every summary lands on a cycle the joint loop holds (as over a loaded CAN bus, where a frame's
+  // render delays the bus answers): the controller freezes there, then resumes with it.
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.set_hold_at_frames(true);
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  EXPECT_GT(head.loop().corrections(), 3U);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.02);
 }
 
 TEST(GazeLoop, VergenceNeverDivergesNorWindsUpAtALimit) {

@@ -31,8 +31,9 @@ TEST(EdsCheck, AVendorDriveThatDoesNotFitExitsOneNamingEachProblem) {
   EXPECT_EQ(result.exit_code, 1) << result.output;
   // The six the drive lacks for streaming, and the five homing objects the pan's homing needs.
   EXPECT_TRUE(says(result, "does not fit: 11 problems")) << result.output;
-  EXPECT_TRUE(says(result, "  0x6098:00 (not in the EDS), joint pan: not in the EDS; the master "
-                           "writes it (homing (CiA 402 mode 6)"))
+  EXPECT_TRUE(says(result,
+                   "  0x6098:00 (not in the EDS), joint pan: not in the EDS; the master "
+                   "writes it (homing (CiA 402 mode 6)"))
       << result.output;
   EXPECT_TRUE(says(result, "  0x1017:00 (not in the EDS), joints pan, tilt: not in the EDS"))
       << result.output;

@@ -75,6 +75,22 @@ std::vector<hal::SettingProblem> check_v4l2_rig(const hal::HardwareInfo& hardwar
                           "found none"});
     }
   }
+  // Found here, before anything opens: the factory knows "v4l2" as a backend, not that it makes
+  // cameras only.
+  for (const hal::JointGroupInfo& group : hardware.groups) {
+    if (group.backend == V4l2Backend::kName) {
+      problems.push_back({"groups." + group.name + ".backend",
+                          "expected a backend with joints (e.g. sim or socketcan), found "
+                          "'v4l2', which makes cameras only"});
+    }
+  }
+  for (const hal::TouchSensorInfo& sensor : hardware.touch_sensors) {
+    if (sensor.backend == V4l2Backend::kName) {
+      problems.push_back({"touch_sensors." + sensor.name + ".backend",
+                          "expected a backend with touch sensors (e.g. sim), found 'v4l2', "
+                          "which makes cameras only"});
+    }
+  }
   if (hardware.stereo) {
     const hal::CameraInfo* left = hardware.find_camera(hardware.stereo->left_camera);
     const hal::CameraInfo* right = hardware.find_camera(hardware.stereo->right_camera);

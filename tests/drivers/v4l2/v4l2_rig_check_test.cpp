@@ -116,6 +116,28 @@ TEST(V4l2RigKeys, TheLoaderChecksTheKeysOwnSyntax) {
   EXPECT_NE(messages[3].find("exposure_us"), std::string::npos) << messages[3];
 }
 
+TEST(V4l2RigKeys, AJointGroupOrTouchSensorOnV4l2IsRefusedAtItsBackend) {
+  hal::HardwareInfo hardware;
+  hal::JointGroupInfo group;
+  group.name = "head";
+  group.backend = "v4l2";
+  hardware.groups.push_back(group);
+  group.name = "arm";
+  group.backend = "sim";
+  hardware.groups.push_back(group);
+  hal::TouchSensorInfo sensor;
+  sensor.name = "finger";
+  sensor.backend = "v4l2";
+  hardware.touch_sensors.push_back(sensor);
+  const auto problems = check_v4l2_rig(hardware, V4l2RigInfo{});
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].key_path, "groups.head.backend");
+  EXPECT_EQ(problems[0].message,
+            "expected a backend with joints (e.g. sim or socketcan), found 'v4l2', which makes "
+            "cameras only");
+  EXPECT_EQ(problems[1].key_path, "touch_sensors.finger.backend");
+}
+
 TEST(V4l2RigKeys, TwoCamerasOnOneDeviceAndAPairAtTwoRatesAreRefused) {
   hal::HardwareInfo hardware;
   for (const char* name : {"left_eye", "right_eye"}) {

@@ -600,8 +600,19 @@ void check_cameras_representable(const RigConfig& rig) {
     const std::string path = "cameras." + camera.name;
     const double centre_x = (camera.width_px - 1) / 2.0;
     const double centre_y = (camera.height_px - 1) / 2.0;
-    if (std::abs(camera.principal_x_px - centre_x) > 1e-3 ||
-        std::abs(camera.principal_y_px - centre_y) > 1e-3) {
+    // What the sim cannot render matters for the cameras it serves; a real camera beside it (a
+    // calibrated V4L2 eye) keeps its own principal point and distortion.
+    const bool rendered = camera.backend == "sim";
+    if (rendered && !camera.distortion.is_zero()) {
+      issues.push_back({rig.source_file, 0, 0, path + ".distortion",
+                        "the simulator renders an ideal pinhole only: expected no distortion (or "
+                        "all zero) for a sim camera, found k1 " +
+                            num(camera.distortion.k1) + ", k2 " + num(camera.distortion.k2) +
+                            ", p1 " + num(camera.distortion.p1) + ", p2 " +
+                            num(camera.distortion.p2) + ", k3 " + num(camera.distortion.k3)});
+    }
+    if (rendered && (std::abs(camera.principal_x_px - centre_x) > 1e-3 ||
+                     std::abs(camera.principal_y_px - centre_y) > 1e-3)) {
       issues.push_back({rig.source_file, 0, 0, path + ".principal_point_px",
                         "the simulator renders a centred principal point only: expected [" +
                             num(centre_x) + ", " + num(centre_y) + "] for " +
@@ -609,7 +620,7 @@ void check_cameras_representable(const RigConfig& rig) {
                             std::to_string(camera.height_px) + ", found [" +
                             num(camera.principal_x_px) + ", " + num(camera.principal_y_px) + "]"});
     }
-    if (std::abs(camera.focal_x_px - camera.focal_y_px) > 1e-9 * camera.focal_y_px) {
+    if (rendered && std::abs(camera.focal_x_px - camera.focal_y_px) > 1e-9 * camera.focal_y_px) {
       issues.push_back({rig.source_file, 0, 0, path + ".focal_px",
                         "the simulator renders square pixels only: focal_x (" +
                             num(camera.focal_x_px) + ") must equal focal_y (" +

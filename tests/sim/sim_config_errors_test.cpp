@@ -106,6 +106,26 @@ TEST(RigErrorsTest, CameraWithOffCentrePrincipalPointIsRefusedAtConfigTime) {
   }
 }
 
+TEST(RigErrorsTest, ASimCameraWithLensDistortionIsRefusedARealOneBesideTheSimIsNot) {
+  auto rig = testing::load_shipped_rig();
+  rig.cameras[0].distortion.k1 = -0.2;
+  try {
+    hal::ManualClock clock;
+    auto backend = testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock);
+    FAIL() << "accepted a distorted sim camera";
+  } catch (const config::ConfigError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("cameras.left_eye.distortion"), std::string::npos) << message;
+    EXPECT_NE(message.find("k1 -0.2"), std::string::npos) << message;
+  }
+  // A calibrated V4L2 eye (off-centre principal point, distortion) beside sim joints: the sim
+  // does not render it, so it takes it as it is.
+  rig.cameras[0].backend = "v4l2";
+  rig.cameras[0].principal_x_px += 7.25;
+  hal::ManualClock clock;
+  EXPECT_NO_THROW(testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock));
+}
+
 TEST(RigErrorsTest, BrokenKinematicTreeIsRefused) {
   auto rig = testing::load_shipped_rig();
   rig.joints[1].parent = "no_such_link";

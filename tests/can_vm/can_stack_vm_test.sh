@@ -152,6 +152,43 @@ if latencies_us:
           f"p50 {q[49]:.0f} us, p99 {q[98]:.0f} us")
 PY
 
+# Homing as candump saw it: the pan (node 1, incremental encoder) homes with CiA 402 method 17
+# (limit switch) before the first SYNC; the tilt (node 2, absolute) never enters homing mode.
+check "node 1 homed (method 17, mode 6, start, statusword bits 12+10) before CSP and the first SYNC" \
+  python3 - "${log}" <<'PY'
+import sys
+frames = []
+for line in open(sys.argv[1]):
+    stamp, _, frame = line.split()
+    cob, _, data = frame.partition("#")
+    frames.append((float(stamp.strip("()")), cob, data))
+def first(pred, after=-1):
+    return next((i for i, f in enumerate(frames) if i > after and pred(f)), None)
+def sdo_write(node, index, value_hex):  # Expedited download of `value_hex` (LE bytes) at :00.
+    head = f"{index & 0xFF:02X}{index >> 8:02X}00"
+    return lambda f: (f[1] == f"{0x600 + node:03X}" and f[2][0:2] in ("2F", "2B", "27", "23")
+                      and f[2][2:8] == head and f[2][8:].startswith(value_hex))
+method = first(sdo_write(1, 0x6098, "11"))
+mode6 = first(sdo_write(1, 0x6060, "06"))
+start = first(sdo_write(1, 0x6040, "1F00"), mode6 if mode6 is not None else -1)
+csp = first(sdo_write(1, 0x6060, "08"), start if start is not None else -1)
+sync = first(lambda f: f[1] == "080")
+words = []
+for i in range(mode6 or 0, csp or len(frames)):
+    t, cob, data = frames[i]
+    if cob == "581" and data.startswith("4B416000"):
+        word = int(data[10:12] + data[8:10], 16)
+        if not words or words[-1][1] != word:
+            words.append((t, word))
+print("can_stack_vm_test: node 1 homing statuswords (SDO 0x6041 answers):",
+      " -> ".join(f"{w:04X}" for _, w in words),
+      f"in {words[-1][0] - frames[mode6][0]:.3f} s" if words and mode6 is not None else "")
+ok = (None not in (method, mode6, start, csp, sync) and method < mode6 < start < csp < sync
+      and words and words[-1][1] & 0x1400 == 0x1400 and not any(w & 0x2000 for _, w in words)
+      and first(sdo_write(2, 0x6060, "06")) is None)
+sys.exit(0 if ok else 1)
+PY
+
 # --- 2. canplayer replays the master's log --------------------------------------------------------
 mkdir -p "${work}/replay"
 head -n 400 "${work}/traffic/master.log" >"${work}/replay/part.log"

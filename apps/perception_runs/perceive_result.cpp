@@ -40,6 +40,8 @@ Json level_json(const perception::SsmSummary& s, int k, const std::string& momen
                           {"peak_score", six_digits(l.peak_score)},
                           {"texture_rms", six_digits(l.texture_rms)},
                           {"at_range_edge", l.at_range_edge},
+                          {"aperture", l.aperture},
+                          {"x_structure", six_digits(l.x_structure)},
                           {"search_level_px", Json::array({l.search_min_px, l.search_max_px})},
                           {"moved_windows", l.moved_windows}};
   const Json moments = {{"map", moments_map},

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "cambio/perception/window_x_structure.hpp"
 #include "cambio/perception/window_zncc.hpp"
 
 namespace cambio::perception {
@@ -74,7 +75,8 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
   const CandidateEvidence best =
       refine_candidates(left, right, left_retina, right_retina, *scan, out, shifted);
   out.candidates = scan->count;
-  out.confidence = scan_confidence(best, runner_up_key(*scan, out.disparity_px));
+  out.confidence =
+      scan_confidence(best, runner_up_key(*scan, out.disparity_px), scan->window_samples);
 }
 
 DisparityEstimator::CandidateEvidence DisparityEstimator::refine_candidates(
@@ -134,7 +136,7 @@ DisparityEstimator::CandidateEvidence DisparityEstimator::weigh_candidate(
   evidence.texture = scan.texture_rms;
   for (int k = scan.level - 1; k >= 0; --k) {
     const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];
-    if (!level.searched || level.texture_rms < config_.min_texture_rms) continue;
+    if (!level.searched || level.aperture || level.texture_rms < config_.min_texture_rms) continue;
     // The finer levels' windows are smaller (a 9-px window at level 0 may see one smooth
     // texel): they tip the balance between candidates the scan finds alike, not more.
     evidence.key += kFinerLevelWeight * (level.valid ? level.peak_score : 0.0f);
@@ -158,17 +160,22 @@ float DisparityEstimator::runner_up_key(const DisparityScanResult& scan,
   return second_key;
 }
 
-float DisparityEstimator::scan_confidence(const CandidateEvidence& best,
-                                          float second_key) const noexcept {
+float DisparityEstimator::scan_confidence(const CandidateEvidence& best, float second_key,
+                                          int window_samples) const noexcept {
   // Confidence, on the evidence the choice was made on: how well the winner matches (its mean
   // score per unit weight), how clearly it beats the best hypothesis of another disparity (a
   // periodic texture gives several alike: low), and whether there was texture to match at all
   // (the most textured level compared: a fine texture averages out at the scan's blocks).
+  // A wider deciding window's scores vary less between shifts of alike patches (sampling noise
+  // falls as one over the root of the samples): the lead that makes it distinct shrinks so.
   const double quality = std::clamp(best.key / best.weight, 0.0f, 1.0f);
   const double margin = second_key <= -1e8f ? quality : (best.key - second_key) / best.weight;
+  const double own_samples = (2.0 * half_ + 1.0) * (2.0 * half_y_ + 1.0);
+  const double distinct_margin =
+      kDistinctMargin * std::sqrt(own_samples / std::max<double>(window_samples, own_samples));
   const double ratio = best.texture / config_.min_texture_rms;
   const double texture_factor = ratio * ratio / (1.0 + ratio * ratio);
-  return static_cast<float>(quality * quality * std::clamp(margin / kDistinctMargin, 0.0, 1.0) *
+  return static_cast<float>(quality * quality * std::clamp(margin / distinct_margin, 0.0, 1.0) *
                             texture_factor);
 }
 
@@ -212,7 +219,10 @@ void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& rig
     // The coarser estimate does not fit this level's overlap of the two retinas: keep it.
     if (lo > hi) break;
     level.texture_rms = left_texture(left_maps);
-    if (level.texture_rms < config_.min_texture_rms) {
+    level.x_structure =
+        window_x_structure(left_maps, width_, cx, height_ / 2, height_, half_, half_y_, features_);
+    level.aperture = level.x_structure < DisparityScan::kMinXStructure;
+    if (level.texture_rms < config_.min_texture_rms || level.aperture) {
       level.searched = true;
       level.search_min_px = lo;
       level.search_max_px = hi;

@@ -10,6 +10,10 @@ namespace cambio::perception {
 
 namespace {
 
+/// A score for a shift whose right window leaves the image: beyond it the strip replicates the
+/// edge, which can correlate with anything.
+constexpr float kOutside = -2.0f;
+
 /// The half-width (samples) of the mask that makes `spec`, as the operator bank builds it.
 int mask_half_width(const MapSpec& spec, const OperatorConfig& operators, int bank_apron) {
   switch (spec.kind) {
@@ -47,9 +51,7 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
   }
   const int scale = 1 << level_;
   range_ = static_cast<int>(std::ceil(disparity.scan_range_px / scale));
-  context_half_ = 2 * half_;
-  context_half_y_ = std::min(context_half_, (height_ - 1) / 2);
-  context_width_ = 2 * context_half_ + 2;
+  context_width_ = 2 * tier_half(kWindowTiers - 1) + 2;
   strip_width_ = std::max(width_, context_width_) + 2 * range_;
 
   int apron = 0;
@@ -83,17 +85,14 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
 
 DisparityScan::~DisparityScan() = default;
 
-float DisparityScan::score(const float* left_level, int shift) const noexcept {
-  // The left window at the retina's centre against the strip's window `shift` samples to the
+float DisparityScan::score(int tier, const float* left_level, int shift) const noexcept {
+  // The left window at its level's centre against the strip's window `shift` samples to the
   // left of the strip's centre (x_right = x_left - d).
-  return window_zncc(left_level, width_, width_ / 2, strip_maps_.data(), strip_width_,
-                     strip_width_ / 2 - shift, height_ / 2, height_, half_, half_y_, features_);
-}
-
-float DisparityScan::context_score(int shift) const noexcept {
-  return window_zncc(context_maps_.data(), context_width_, context_width_ / 2, strip_maps_.data(),
-                     strip_width_, strip_width_ / 2 - shift, height_ / 2, height_, context_half_,
-                     context_half_y_, features_);
+  const bool fovea = tier == 0;
+  return window_zncc(fovea ? left_level : context_maps_.data(), fovea ? width_ : context_width_,
+                     (fovea ? width_ : context_width_) / 2, strip_maps_.data(), strip_width_,
+                     strip_width_ / 2 - shift, height_ / 2, height_, tier_half(tier),
+                     tier_half_y(tier), features_);
 }
 
 bool DisparityScan::inside(const RetinaLevelView& strip, int shift, int half) const noexcept {
@@ -141,13 +140,52 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
         static_cast<float>(std::sqrt(variance / static_cast<double>(features_.size())));
   }
 
-  // Shifts whose right window lies wholly inside the image: beyond it the strip replicates the
-  // edge, which can correlate with anything.
-  constexpr float kOutside = -2.0f;
+  for (int tier = 0; tier < kWindowTiers; ++tier) {
+    if (score_profile(tier, left_level, strip) || tier + 1 == kWindowTiers) {
+      out.window_tier = tier;
+      out.window_samples = (2 * tier_half(tier) + 1) * (2 * tier_half_y(tier) + 1);
+      collect_candidates(tier, left_level, strip, out);
+      return;
+    }
+  }
+}
+
+bool DisparityScan::score_profile(int tier, const float* left_level,
+                                  const RetinaLevelView& strip) noexcept {
+  const int half = tier_half(tier);
+  float best = kOutside;
+  int best_shift = 0;
   for (int d = -range_; d <= range_; ++d) {
     float& s = scores_[static_cast<std::size_t>(d + range_)];
-    s = inside(strip, d, half_) ? score(left_level, d) : kOutside;
-    if (s > kOutside) ++out.shifts;
+    s = inside(strip, d, half) ? score(tier, left_level, d) : kOutside;
+    if (s > best) {
+      best = s;
+      best_shift = d;
+    }
+  }
+  if (!(best > 0.0f)) return false;
+  // The best local maximum of another disparity (not the best's neighbours).
+  float second = kOutside;
+  for (int d = -range_ + 1; d < range_; ++d) {
+    if (std::abs(d - best_shift) <= 1) continue;
+    const float s = scores_[static_cast<std::size_t>(d + range_)];
+    if (s > scores_[static_cast<std::size_t>(d - 1 + range_)] &&
+        s >= scores_[static_cast<std::size_t>(d + 1 + range_)]) {
+      second = std::max(second, s);
+    }
+  }
+  return best - second >= kDecisiveMargin;
+}
+
+void DisparityScan::collect_candidates(int tier, const float* left_level,
+                                       const RetinaLevelView& strip,
+                                       DisparityScanResult& out) const noexcept {
+  const int scale = strip.scale_px;
+  const int context_tier = std::min(tier + 1, kWindowTiers - 1);
+  const int context_half = tier_half(context_tier);
+  out.shifts = 0;
+  for (int d = -range_; d <= range_; ++d) {
+    if (scores_[static_cast<std::size_t>(d + range_)] > kOutside) ++out.shifts;
   }
   // Local maxima (ties resolved toward the lower shift), best first; the range's ends only if
   // the scores fall toward them (the range covers every disparity the rig can produce).
@@ -158,12 +196,13 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
     const float above = d < range_ ? scores_[static_cast<std::size_t>(d + 1 + range_)] : kOutside;
     if (!(s > below && s >= above)) continue;
     // The context at the peak and its neighbours (the peak is on the scan's block grid); a
-    // context window past the image's edge says nothing either way.
+    // context window past the image's edge says nothing either way. The widest window is its
+    // own context.
     float context = s;
-    if (inside(strip, d, context_half_)) {
-      context = context_score(d);
-      if (d > -range_) context = std::max(context, context_score(d - 1));
-      if (d < range_) context = std::max(context, context_score(d + 1));
+    if (context_tier != tier && inside(strip, d, context_half)) {
+      context = score(context_tier, left_level, d);
+      if (d > -range_) context = std::max(context, score(context_tier, left_level, d - 1));
+      if (d < range_) context = std::max(context, score(context_tier, left_level, d + 1));
     }
     // The peak between blocks: a parabola through it and its neighbours. Without it a fixated
     // surface whose finer levels hold too little texture to refine is measured to the nearest

@@ -16,10 +16,14 @@ struct LevelDisparity {
   bool searched = false;       ///< False when the level could not hold the coarser estimate.
   bool valid = false;          ///< Textured enough and matched inside the search range.
   bool at_range_edge = false;  ///< Best match on the range's edge: not trusted (invalid).
-  float disparity_px = 0.0f;   ///< x_left - x_right, level-0 px.
-  float confidence = 0.0f;     ///< In [0, 1]: peak correlation x distinctiveness x texture.
-  float peak_score = 0.0f;     ///< Zero-mean normalised cross-correlation at the best shift.
-  float texture_rms = 0.0f;    ///< Rms deviation of the left window's features.
+  /// The window's features barely vary along x (horizontal stripes: the aperture problem), so
+  /// every shift scores alike: the level is not matched and keeps the coarser estimate.
+  bool aperture = false;
+  float x_structure = 0.0f;   ///< window_x_structure of the left window (0.5: isotropic).
+  float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px.
+  float confidence = 0.0f;    ///< In [0, 1]: peak correlation x distinctiveness x texture.
+  float peak_score = 0.0f;    ///< Zero-mean normalised cross-correlation at the best shift.
+  float texture_rms = 0.0f;   ///< Rms deviation of the left window's features.
   int scale_px = 1;
   int search_min_px = 0;  ///< Searched shifts, level px (window offset included).
   int search_max_px = 0;
@@ -63,7 +67,9 @@ class ShiftedLevelSource {
 /// disparity the coarser level found. The score is the zero-mean normalised cross-correlation of a
 /// (2h+1)^2 window at the centre, summed over the configured maps; a parabola through the best
 /// score and its two neighbours gives the sub-pixel shift. Untextured windows (rms feature
-/// deviation below min_texture_rms) are invalid rather than guessed.
+/// deviation below min_texture_rms) are invalid rather than guessed, and so are windows with too
+/// little structure along x (window_x_structure below DisparityScan::kMinXStructure), whose best
+/// shift would be noise: both keep the coarser level's estimate.
 class DisparityEstimator {
  public:
   /// Throws std::invalid_argument when a feature name is not in `bank` or the window does not fit.
@@ -115,8 +121,11 @@ class DisparityEstimator {
   /// The best key of a candidate that refined to another disparity than `winner_px`; -1e9 for
   /// none.
   float runner_up_key(const DisparityScanResult& scan, float winner_px) const noexcept;
-  float scan_confidence(const CandidateEvidence& best, float second_key) const noexcept;
-  /// The winner's lead over the runner-up (ZNCC per level) at which it is fully distinct.
+  /// `window_samples`: the scan's deciding window's (DisparityScanResult::window_samples).
+  float scan_confidence(const CandidateEvidence& best, float second_key,
+                        int window_samples) const noexcept;
+  /// The winner's lead over the runner-up (ZNCC per level) at which it is fully distinct, for
+  /// the estimator's own window (a wider deciding window needs less).
   static constexpr double kDistinctMargin = 0.3;
   /// How much a finer level's peak counts, against the scan level's, in choosing a candidate.
   static constexpr float kFinerLevelWeight = 0.5f;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <vector>
@@ -16,7 +17,7 @@ namespace cambio::perception {
 struct DisparityCandidate {
   float disparity_px = 0.0f;  ///< x_left - x_right, level-0 px (sub-block: parabola peak).
   float score = 0.0f;         ///< ZNCC at the scan level.
-  /// ZNCC of a window twice as wide (the fixated object with its outline and surround) at this
+  /// ZNCC of the next wider window (the fixated object with its outline and surround) at this
   /// disparity: what tells apart the alike peaks of a periodic texture.
   float context_score = 0.0f;
 };
@@ -29,6 +30,10 @@ struct DisparityScanResult {
   int scale_px = 0;  ///< Its block size.
   int shifts = 0;    ///< Shifts scored (inside the image).
   float texture_rms = 0.0f;
+  /// The window that decided: 0 the scan's own, 1 twice and 2 four times as wide (the smaller
+  /// ones scored several shifts alike, or saw too little structure along x).
+  int window_tier = 0;
+  int window_samples = 0;  ///< The deciding window's samples (width x height).
   int count = 0;
   std::array<DisparityCandidate, kMaxCandidates> candidates{};
 };
@@ -46,12 +51,18 @@ struct DisparityScanResult {
 /// keeps the one the fixated patch agrees with (several hypotheses, as population codes of
 /// disparity-tuned units keep several, instead of one coarse guess).
 ///
-/// A periodic texture (stripes, a checkerboard) gives several alike peaks; for each candidate
-/// the scan also scores a context window twice as wide, whose view of the object's outline and
-/// surround matches at the true disparity only.
+/// A periodic texture (a checkerboard) gives several alike peaks, and a texture without
+/// structure along x (horizontal stripes: the aperture problem) scores every shift alike. The
+/// window then grows (adaptive windows, as in Kanade and Okutomi's stereo): when the best peak
+/// does not beat every other by kDecisiveMargin, the whole range is scored again with a window
+/// twice as wide, then four times: its view of the object's outline and surround matches at the
+/// true disparity only. The decisive window's local maxima are the candidates, each with the next
+/// wider window's score as its context. The window grows only where the smaller one cannot decide,
+/// because a wide window mixes the fixated object with whatever surrounds it at other disparities.
 ///
 /// Cost: one strip level (width + 2 scan_range / scale samples) and its features, a left level
-/// as wide as the context window, then one ZNCC per shift. Allocates in the constructor only;
+/// as wide as the widest window, then one ZNCC per shift (and per shift again for each wider
+/// window the scene needs). Allocates in the constructor only;
 /// scan() is real-time safe.
 class DisparityScan {
  public:
@@ -63,6 +74,14 @@ class DisparityScan {
                 int image_height_px);
   ~DisparityScan();
 
+  /// Windows tried, from the scan's own (tier 0) to four times as wide.
+  static constexpr int kWindowTiers = 3;
+  /// How far the best peak must lead every other (ZNCC) for a window to decide.
+  static constexpr float kDecisiveMargin = 0.1f;
+  /// The least share of x structure (window_x_structure) with which a refinement level's
+  /// window is matched (the estimator's aperture test).
+  static constexpr float kMinXStructure = 0.1f;
+
   bool enabled() const { return enabled_; }
   int level() const { return level_; }
 
@@ -72,9 +91,17 @@ class DisparityScan {
             const hal::Image& right, PixelPoint right_fixation, DisparityScanResult& out) noexcept;
 
  private:
-  float score(const float* left_level, int shift) const noexcept;
-  /// ZNCC of the context window (context_half_ x context_half_y_) at `shift`.
-  float context_score(int shift) const noexcept;
+  /// ZNCC at `shift` of window `tier` (half-width half_ << tier): the left window from the
+  /// SSM's level for tier 0, from the wider left context level above it.
+  float score(int tier, const float* left_level, int shift) const noexcept;
+  /// Scores every shift with window `tier` into scores_ (kOutside past the image); whether
+  /// its best peak decides (leads every other local maximum by kDecisiveMargin).
+  bool score_profile(int tier, const float* left_level, const RetinaLevelView& strip) noexcept;
+  /// The local maxima of scores_ (window `tier`), best first, into `out`.
+  void collect_candidates(int tier, const float* left_level, const RetinaLevelView& strip,
+                          DisparityScanResult& out) const noexcept;
+  int tier_half(int tier) const { return half_ << tier; }
+  int tier_half_y(int tier) const { return std::min(half_ << tier, (height_ - 1) / 2); }
   /// Whether the right window of half-width `half` at `shift` lies inside the image.
   bool inside(const RetinaLevelView& strip, int shift, int half) const noexcept;
 
@@ -89,9 +116,7 @@ class DisparityScan {
   int image_width_ = 0;
   std::vector<int> features_;
   MapMask required_ = 0;
-  int context_half_ = 0;  ///< The context window's half-width (samples): twice the window's.
-  int context_half_y_ = 0;
-  int context_width_ = 0;  ///< The left context level's width.
+  int context_width_ = 0;  ///< The left context level's width: the widest window's.
   std::unique_ptr<Retina> strip_;
   std::unique_ptr<OperatorBank> strip_bank_;
   std::vector<float> strip_maps_;  ///< features x strip_width x height.

@@ -141,12 +141,23 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
   }
 
   for (int tier = 0; tier < kWindowTiers; ++tier) {
-    if (score_profile(tier, left_level, strip) || tier + 1 == kWindowTiers) {
-      out.window_tier = tier;
-      out.window_samples = (2 * tier_half(tier) + 1) * (2 * tier_half_y(tier) + 1);
-      collect_candidates(tier, left_level, strip, out);
-      return;
+    const bool last = tier + 1 == kWindowTiers;
+    if (!score_profile(tier, left_level, strip) && !last) continue;
+    out.count = 0;
+    out.window_tier = tier;
+    out.window_samples = (2 * tier_half(tier) + 1) * (2 * tier_half_y(tier) + 1);
+    collect_candidates(tier, left_level, strip, out);
+    // The scan's own window decides only if the next wider one does not clearly prefer another
+    // peak: a patch that repeats nearby (a fine checker) can lead clearly at a wrong period,
+    // which its outline refutes. Wider windows are not second-guessed by wider ones still:
+    // those hold more of the surround than of a small object.
+    bool context_agrees = true;
+    for (int i = 1; i < out.count && tier == 0; ++i) {
+      context_agrees = context_agrees && out.candidates[static_cast<std::size_t>(i)].context_score -
+                                                 out.candidates[0].context_score <
+                                             kDecisiveMargin;
     }
+    if (context_agrees || last) return;
   }
 }
 

@@ -54,7 +54,8 @@ struct DisparityScanResult {
 /// A periodic texture (a checkerboard) gives several alike peaks, and a texture without
 /// structure along x (horizontal stripes: the aperture problem) scores every shift alike. The
 /// window then grows (adaptive windows, as in Kanade and Okutomi's stereo): when the best peak
-/// does not beat every other by kDecisiveMargin, the whole range is scored again with a window
+/// does not beat every other by kDecisiveMargin, or the next wider window scores another peak
+/// higher by that margin, the whole range is scored again with a window
 /// twice as wide, then four times: its view of the object's outline and surround matches at the
 /// true disparity only. The decisive window's local maxima are the candidates, each with the next
 /// wider window's score as its context. The window grows only where the smaller one cannot decide,

@@ -231,6 +231,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         vergence_rad_ = saccade_end_vergence_rad_;
         verged_ = false;
         anchored_ = false;
+        elsewhere_since_ns_.reset();
         pending_jump_rad_ = 0.0;
         weak_pending_ = false;
         vergence_blind_until_ns_ = now_ns;
@@ -325,6 +326,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
   anchored_ = false;
+  elsewhere_since_ns_.reset();
   pending_jump_rad_ = 0.0;
   weak_pending_ = false;
   ++status_.commands_applied;
@@ -507,6 +509,7 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
     verged_ = true;
     pending_jump_rad_ = 0.0;
     weak_pending_ = false;
+    elsewhere_since_ns_.reset();
     ++anchor_returns_;
     return;
   }
@@ -555,13 +558,31 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
                                  params_.vergence.max_step_rad);
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
-  if (std::abs(error_rad) < kVergedRad) {
-    // Verged: this is the fixated surface's vergence, followed while it moves smoothly.
-    anchor_rad_ = vergence_rad_;
-    anchored_ = true;
-  }
+  if (std::abs(error_rad) < kVergedRad) anchor_on(summary.stamp_ns);
   applied_since_weak_rad_ += step;
   ++corrections_;
+}
+
+void GazeLoop::anchor_on(std::int64_t stamp_ns) noexcept {
+  if (!anchored_ || std::abs(vergence_rad_ - anchor_rad_) <= kVergenceJumpRad) {
+    // The fixated surface's vergence, followed while it moves smoothly.
+    anchor_rad_ = vergence_rad_;
+    anchored_ = true;
+    elsewhere_since_ns_.reset();
+    return;
+  }
+  // Verged on a surface at another depth: something that crossed the dominant eye's view too,
+  // or the target itself. Only a surface held for kReanchorAfter_s replaces the anchor; until
+  // then the anchored one is returned to as soon as it is measured again.
+  if (!elsewhere_since_ns_ || std::abs(vergence_rad_ - elsewhere_rad_) > kVergenceJumpRad) {
+    elsewhere_since_ns_ = stamp_ns;
+  } else if (static_cast<double>(stamp_ns - *elsewhere_since_ns_) * 1e-9 >= kReanchorAfter_s) {
+    anchor_rad_ = vergence_rad_;
+    elsewhere_since_ns_.reset();
+    ++reanchors_;
+    return;
+  }
+  elsewhere_rad_ = vergence_rad_;
 }
 
 bool GazeLoop::dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept {

@@ -399,6 +399,37 @@ TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAncho
   EXPECT_EQ(head.loop().anchor_returns(), 1U);
 }
 
+TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {
+  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
+  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  const double verged = head.status().vergence_rad;
+  ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.05);
+  // A ball 0.45 m in front of the dominant eye, on its line of sight, for 0.3 s: it crosses the
+  // dominant eye's view too (no steady fovea), so the verging eye follows it and verges on it.
+  const Eigen::Isometry3d X_WL = head.camera_pose_W(hal::Eye::kLeft);
+  const Eigen::Vector3d ball = X_WL.translation() + 0.45 * X_WL.linear().col(2);
+  for (int i = 0; i < 60; ++i) head.step(&ball);
+  ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, ball), 0.25) << "never verged on the ball";
+  EXPECT_EQ(head.loop().reanchors(), 0U);
+  // The ball has gone and the sphere is measured again: back to its vergence in one frame.
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "the ball became the anchor";
+  EXPECT_EQ(head.loop().anchor_returns(), 1U);
+  // A surface held longer than kReanchorAfter_s is the fixated one now (the target moved in
+  // depth): the old vergence is no longer returned to at once.
+  for (int i = 0; i < 400; ++i) head.step(&sphere);
+  const int held_cycles = static_cast<int>(1.5 * GazeLoop::kReanchorAfter_s / kPeriodS);
+  for (int i = 0; i < held_cycles; ++i) head.step(&ball);
+  EXPECT_EQ(head.loop().reanchors(), 1U);
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);
+  EXPECT_EQ(head.loop().anchor_returns(), 1U);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, ball), 0.5);
+}
+
 TEST(GazeLoop, SaccadeStaysWithinTheJointLimitsAndKeepsVergenceUntilItStops) {
   const Eigen::Vector3d left_cube(1.1, 0.22, 1.40);
   const Eigen::Vector3d right_cube(1.1, -0.22, 1.40);

@@ -3,6 +3,7 @@
 #include <array>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -120,6 +121,9 @@ class GazeLoop final : public hal::Loop {
   /// Returns to the anchored vergence (the last one verged on the current target) when a
   /// measurement asked for it again after the verging eye had been drawn off.
   std::uint64_t anchor_returns() const { return anchor_returns_; }
+  /// Anchors moved to a vergence far from the old one, after the eye had held it
+  /// kReanchorAfter_s (the fixated object really changed depth, or a false anchor was left).
+  std::uint64_t reanchors() const { return reanchors_; }
   /// The head joints' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from
   /// the loop's thread or after the executor stopped.
   const CommandTracking& tracking() const { return tracking_; }
@@ -140,6 +144,9 @@ class GazeLoop final : public hal::Loop {
   /// A measurement asks for the anchored vergence when within this of it (about 3 px).
   static constexpr double kAnchorAgreementRad = 0.3 * std::numbers::pi / 180.0;
   static constexpr double kSteadyResidualGrey = 3.0;
+  /// A vergence more than kVergenceJumpRad from the anchor becomes the anchor only once the eye
+  /// has stayed verged near it this long: longer than a distractor takes to cross the view.
+  static constexpr double kReanchorAfter_s = 0.5;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
@@ -161,6 +168,9 @@ class GazeLoop final : public hal::Loop {
   void write_targets(std::int64_t now_ns) noexcept;
   /// Whether the dominant eye's fovea shows the surface it showed a frame ago (its motion
   /// estimate: small flow, small residual at the finest level).
+  /// Verged at vergence_rad_ (a measurement's error below kVergedRad): moves the anchor there if
+  /// it is near, or once the eye has stayed there kReanchorAfter_s.
+  void anchor_on(std::int64_t stamp_ns) noexcept;
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
   bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
   /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
@@ -246,9 +256,13 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t held_jumps_ = 0;
   std::uint64_t occlusion_rejections_ = 0;
   std::uint64_t anchor_returns_ = 0;
+  std::uint64_t reanchors_ = 0;
   // The vergence last verged on the current target (since the last command or saccade).
   bool anchored_ = false;
   double anchor_rad_ = 0.0;
+  // Since when (the measurement's stamp) the eye has been verged far from the anchor, and where.
+  std::optional<std::int64_t> elsewhere_since_ns_;
+  double elsewhere_rad_ = 0.0;
   bool verged_ = false;            // The vergence error has been small since the last command.
   double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
   // A measurement below min_confidence (but above a third of it) waiting for the next to agree;

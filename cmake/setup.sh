@@ -7,7 +7,8 @@
 #   bash cmake/setup.sh build                            # only install and build
 #
 # Environment: CAMBIO_BUILD_DIR (default: build), CAMBIO_CMAKE_ARGS (extra configure arguments,
-# e.g. -DCAMBIO_WARNINGS_AS_ERRORS=ON), CAMBIO_JOBS (default: all cores).
+# quoted as in a shell, e.g. -DCAMBIO_WARNINGS_AS_ERRORS=ON '-DCMAKE_CXX_FLAGS=-O1 -g'),
+# CAMBIO_JOBS (default: all cores).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -47,8 +48,12 @@ if [ ${#missing[@]} -gt 0 ]; then
   "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=300 install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-# shellcheck disable=SC2086 # CAMBIO_CMAKE_ARGS is a list of arguments.
-cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo ${CAMBIO_CMAKE_ARGS:-} >/dev/null
+# CAMBIO_CMAKE_ARGS split as a shell would (xargs honours its quotes), never evaluated.
+cmake_args=()
+if [ -n "${CAMBIO_CMAKE_ARGS:-}" ]; then
+  mapfile -t cmake_args < <(xargs printf '%s\n' <<<"$CAMBIO_CMAKE_ARGS")
+fi
+cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${cmake_args[@]}" >/dev/null
 cmake --build "$build_dir" -j "$jobs"
 
 case "$mode" in

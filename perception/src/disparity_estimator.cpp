@@ -70,13 +70,15 @@ void DisparityEstimator::estimate(const FeatureMaps& left, const FeatureMaps& ri
       scan->level >= left_retina.levels()) {
     descend(left, right, left_retina, right_retina, left_retina.levels() - 1, false, 0.0, 0, out,
             shifted);
-    return;
+  } else {
+    const CandidateEvidence best =
+        refine_candidates(left, right, left_retina, right_retina, *scan, out, shifted);
+    out.candidates = scan->count;
+    out.confidence =
+        scan_confidence(best, runner_up_key(*scan, out.disparity_px), scan->window_samples);
   }
-  const CandidateEvidence best =
-      refine_candidates(left, right, left_retina, right_retina, *scan, out, shifted);
-  out.candidates = scan->count;
-  out.confidence =
-      scan_confidence(best, runner_up_key(*scan, out.disparity_px), scan->window_samples);
+  // After the descent and the refinements, which write the whole result.
+  if (scan != nullptr && scan->searched) out.scan_window_tier = scan->window_tier;
 }
 
 DisparityEstimator::CandidateEvidence DisparityEstimator::refine_candidates(

@@ -175,12 +175,13 @@ bool DisparityScan::score_profile(int tier, const float* left_level,
     }
   }
   if (!(best > 0.0f)) return false;
-  // The best local maximum of another disparity (not the best's neighbours).
+  // The best local maximum of another disparity (not the best's neighbours). A plateau counts
+  // as one: a profile that is flat (nothing varies along x) leads nowhere.
   float second = kOutside;
   for (int d = -range_ + 1; d < range_; ++d) {
     if (std::abs(d - best_shift) <= 1) continue;
     const float s = scores_[static_cast<std::size_t>(d + range_)];
-    if (s > scores_[static_cast<std::size_t>(d - 1 + range_)] &&
+    if (s >= scores_[static_cast<std::size_t>(d - 1 + range_)] &&
         s >= scores_[static_cast<std::size_t>(d + 1 + range_)]) {
       second = std::max(second, s);
     }
@@ -205,7 +206,10 @@ void DisparityScan::collect_candidates(int tier, const float* left_level,
     if (!(s > 0.0f)) continue;
     const float below = d > -range_ ? scores_[static_cast<std::size_t>(d - 1 + range_)] : kOutside;
     const float above = d < range_ ? scores_[static_cast<std::size_t>(d + 1 + range_)] : kOutside;
-    if (!(s > below && s >= above)) continue;
+    // Beside a shift whose window leaves the strip, the scores must fall away from it: the
+    // first shift of a plateau is no peak.
+    const bool rises = below > kOutside ? s > below : s > above;
+    if (!(rises && s >= above)) continue;
     // The context at the peak and its neighbours (the peak is on the scan's block grid); a
     // context window past the image's edge says nothing either way. The widest window is its
     // own context.

@@ -153,6 +153,21 @@ TEST(DisparityScan, HorizontalStripesAreMatchedByTheObjectsOutlineNotByNoise) {
   }
 }
 
+TEST(DisparityScan, AFlatProfileIsNeverDecisive) {
+  // Stripes over the whole view with no outline anywhere: every shift scores alike, a plateau
+  // with no peak. A plateau has no second local maximum either; that must not make its first
+  // shift (the range's end) a decisive match at the fovea's window.
+  const auto [left, right] = layered_pair(40.0, 40.0, 100, [](double, int y, int) {
+    return 128.0 + 50.0 * std::sin(2.0 * std::numbers::pi * y / 11.0);
+  });
+  const DisparityResult result = run(paper_config_with_scan(), left, right);
+  EXPECT_EQ(result.scan_window_tier, DisparityScan::kWindowTiers - 1)
+      << result.disparity_px << " at " << result.confidence;
+  EXPECT_EQ(result.candidates, 0) << result.disparity_px << " at " << result.confidence;
+  EXPECT_TRUE(!result.valid || result.confidence < 0.3f)
+      << result.disparity_px << " at " << result.confidence;
+}
+
 TEST(DisparityScan, AnUntexturedObjectGivesNoConfidentMatch) {
   const testing::Texture background(9);
   const auto [left, right] = layered_pair(

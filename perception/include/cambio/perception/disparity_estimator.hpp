@@ -43,6 +43,9 @@ struct DisparityResult {
   int level = -1;  ///< The finest level that produced the estimate.
   int levels = 0;
   int candidates = 0;  ///< Hypotheses of the whole-range scan compared (0: no scan).
+  /// The scan's last window (DisparityScanResult::window_tier): the one that decided, or the
+  /// widest (DisparityScan::kWindowTiers - 1) when none did; 0 is the fovea's; -1 without a scan.
+  int scan_window_tier = -1;
   std::array<LevelDisparity, Retina::kMaxLevels> per_level{};
 };
 

@@ -106,6 +106,7 @@ ScanRounds time_scan_rounds(const perception::SsmConfig& paper, const BenchStere
   figures.disparity_part_us = scan_run.frame().summary.timings.disparity_us;
   figures.range_px = paper_scan.disparity.scan_range_px;
   figures.disparity_px = scan_run.frame().summary.disparity.disparity_px;
+  figures.window_tier = scan_run.frame().summary.disparity.scan_window_tier;
   return figures;
 }
 
@@ -126,6 +127,11 @@ int run_perception_bench(const PerceptionBenchOptions& options) {
   const int per_round = std::max(5, repeats / kRounds);
   figures.memcpy_rounds = time_memcpy_rounds(pair, paper_run, per_round);
   figures.scan_rounds = time_scan_rounds(configs.paper, pair, paper_run, per_round);
+  // The worst case, side by side with the paper's SSM on the same stripes.
+  const BenchStereoPair stripes = make_horizontal_stripes_pair();
+  SsmRun paper_on_stripes(configs.paper, stripes.left, stripes.right);
+  figures.widest_window_rounds =
+      time_scan_rounds(configs.paper, stripes, paper_on_stripes, per_round);
   figures.opencv_filter_us = time_full_image_filter(configs.paper.operators, pair.left, pair.right,
                                                     std::max(5, repeats / 5));
   figures.stereo_bm_us = time_stereo_bm(pair.left, pair.right, std::max(5, repeats / 5));

@@ -31,6 +31,7 @@ void print_ssm(const char* name, const SsmFigures& f) {
 void print_perception_bench_json(const PerceptionBenchFigures& figures) {
   const SsmVariantFigures& ssm = figures.ssm;
   const ScanRounds& scan = figures.scan_rounds;
+  const ScanRounds& widest = figures.widest_window_rounds;
   const Json json = {
       {"image", "640x480 stereo pair, grey8 (and rgb8 for ssm_paper_rgb)"},
       {"threads", 1},
@@ -75,6 +76,14 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
       {"ssm_paper_scan_disparity_part_us", as_printed(scan.disparity_part_us, "%.2f")},
       {"ssm_paper_scan_range_px", as_printed(scan.range_px, "%.1f")},
       {"ssm_paper_scan_disparity_px", as_printed(scan.disparity_px, "%.3f")},
+      {"ssm_paper_scan_window_tier", scan.window_tier},
+      // The scan's worst case: horizontal stripes, every window tried up to the widest.
+      {"ssm_paper_scan_widest_window_us", as_printed(widest.scan_us, "%.2f")},
+      {"ssm_paper_on_stripes_us", as_printed(widest.paper_us, "%.2f")},
+      {"ssm_paper_scan_widest_window_over_ssm_paper", as_printed(widest.scan_over_paper, "%.2f")},
+      {"ssm_paper_scan_widest_window_disparity_part_us",
+       as_printed(widest.disparity_part_us, "%.2f")},
+      {"ssm_paper_scan_widest_window_tier", widest.window_tier},
       {"true_disparity_px", kBenchPairDisparityPx}};
   std::cout << json_text(json);
 }
@@ -96,6 +105,11 @@ void print_perception_bench_table(const PerceptionBenchFigures& figures) {
       "alternating rounds)\n",
       figures.scan_rounds.scan_us, figures.scan_rounds.range_px,
       figures.scan_rounds.scan_over_paper, figures.rounds);
+  std::printf(
+      "  ... on horizontal stripes   %10.1f us   (every window up to the widest, tier %d; %.2fx "
+      "the paper SSM on them)\n",
+      figures.widest_window_rounds.scan_us, figures.widest_window_rounds.window_tier,
+      figures.widest_window_rounds.scan_over_paper);
   std::printf("  memcpy of both images       %10.1f us   (median of %d rounds)\n",
               figures.memcpy_rounds.memcpy_us, figures.rounds);
   std::printf("  OpenCV full-image filters   %10.1f us   (same operator set, cv::sepFilter2D)\n",

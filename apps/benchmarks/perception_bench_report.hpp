@@ -31,6 +31,7 @@ struct ScanRounds {
   double disparity_part_us = 0;  ///< The scan SSM's last disparity part.
   double range_px = 0;           ///< The scan's range.
   float disparity_px = 0;        ///< The scan SSM's last disparity at the fovea.
+  int window_tier = -1;          ///< The scan's deciding window on the last frame.
 };
 
 struct PerceptionBenchFigures {
@@ -39,6 +40,9 @@ struct PerceptionBenchFigures {
   SsmVariantFigures ssm;
   MemcpyRounds memcpy_rounds;
   ScanRounds scan_rounds;
+  /// The same on horizontal stripes, where no window decides before the widest: the scan's
+  /// worst case.
+  ScanRounds widest_window_rounds;
   double opencv_filter_us = 0;  ///< The SSM's operator set on both whole images.
   double stereo_bm_us = 0;      ///< cv::StereoBM on the whole pair.
 };

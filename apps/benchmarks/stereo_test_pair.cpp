@@ -19,6 +19,27 @@ void to_rgb(const hal::Image& grey, hal::Image& rgb) {
   }
 }
 
+/// A pair of the given size whose left image is value(x, y) and right image value(x + d, y).
+template <typename Value>
+BenchStereoPair sample_pair(const Value& value) {
+  BenchStereoPair pair;
+  pair.left.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
+  pair.right.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
+  for (int y = 0; y < kBenchPairHeightPx; ++y) {
+    for (int x = 0; x < kBenchPairWidthPx; ++x) {
+      pair.left.row(y)[x] = value(x, y);
+      pair.right.row(y)[x] = value(x + kBenchPairDisparityPx, y);
+    }
+  }
+  to_rgb(pair.left, pair.left_rgb);
+  to_rgb(pair.right, pair.right_rgb);
+  return pair;
+}
+
+std::uint8_t to_grey(double v) {
+  return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+}
+
 }  // namespace
 
 BenchStereoPair make_bench_pair() {
@@ -39,20 +60,19 @@ BenchStereoPair make_bench_pair() {
     double v = 128;
     for (const auto& w : waves)
       v += w.amplitude * std::cos(2 * std::numbers::pi * (w.fx * x + w.fy * y) + w.phase);
-    return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    return to_grey(v);
   };
-  BenchStereoPair pair;
-  pair.left.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
-  pair.right.resize(kBenchPairWidthPx, kBenchPairHeightPx, hal::PixelFormat::kGrey8);
-  for (int y = 0; y < kBenchPairHeightPx; ++y) {
-    for (int x = 0; x < kBenchPairWidthPx; ++x) {
-      pair.left.row(y)[x] = value(x, y);
-      pair.right.row(y)[x] = value(x + kBenchPairDisparityPx, y);
-    }
-  }
-  to_rgb(pair.left, pair.left_rgb);
-  to_rgb(pair.right, pair.right_rgb);
-  return pair;
+  return sample_pair(value);
+}
+
+BenchStereoPair make_horizontal_stripes_pair() {
+  const auto value = [](double /*x*/, double y) {
+    const double v = 128 + 40 * std::cos(2 * std::numbers::pi * y / 6.0) +
+                     40 * std::cos(2 * std::numbers::pi * y / 17.0 + 1.0) +
+                     30 * std::cos(2 * std::numbers::pi * y / 40.0 + 2.0);
+    return to_grey(v);
+  };
+  return sample_pair(value);
 }
 
 }  // namespace cambio::app

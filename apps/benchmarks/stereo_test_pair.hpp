@@ -22,4 +22,9 @@ struct BenchStereoPair {
 /// are exact), the same every call (a fixed seed).
 BenchStereoPair make_bench_pair();
 
+/// Horizontal stripes (cosines of y only, periods 6 to 40 px), the right image the left shifted
+/// by kBenchPairDisparityPx: every horizontal shift matches alike (the aperture problem), so the
+/// disparity scan scores the whole range with every window it has: its worst case for time.
+BenchStereoPair make_horizontal_stripes_pair();
+
 }  // namespace cambio::app

@@ -161,6 +161,12 @@ TEST(CambioCli, PerceptionBenchPrintsTheFiguresAsJson) {
        {"ssm_paper_parts_us", "ssm_paper_rgb_parts_us", "ssm_fovea_only_parts_us"}) {
     EXPECT_TRUE(figures[parts].contains("retina")) << parts << " in " << result.output;
   }
+  // The scan's cost is measured where it is cheapest (the textured pair: the fovea's window
+  // decides) and where it is dearest (horizontal stripes: every window, up to the widest).
+  EXPECT_EQ(figures["ssm_paper_scan_window_tier"], 0) << result.output;
+  // The widest of DisparityScan's three windows.
+  EXPECT_EQ(figures["ssm_paper_scan_widest_window_tier"], 2) << result.output;
+  EXPECT_TRUE(figures["ssm_paper_scan_widest_window_over_ssm_paper"].is_number()) << result.output;
 }
 
 TEST(CambioCli, RunRefusesAMissingExperiment) {

@@ -355,14 +355,28 @@ TEST(GazeLoop, VergenceNeverDivergesNorWindsUpAtALimit) {
   EXPECT_LT(head.status().vergence_rad, at_limit - 1.0 * kDeg) << "wound up at the limit";
 }
 
-TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
-  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
+/// The sphere of the vergence tests: 1 m ahead, 8 cm left of the head's centre.
+const Eigen::Vector3d kSphere(1.0, 0.14, 1.40);
+
+/// Both eyes' pans on kSphere (parallel: the right eye not yet verged).
+std::map<std::string, double> eyes_on_sphere() {
   const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
-  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
+  return {{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}};
+}
+
+/// Builds `head`, fixates kSphere and runs 2 s, by which the right eye has verged on it;
+/// returns that vergence.
+double verge_on_sphere(GazeHarness& head) {
   head.build();
-  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
-  for (int i = 0; i < 400; ++i) head.step(&sphere);
-  const double verged = head.status().vergence_rad;
+  head.command(GazeAction::kFixate, GazeHarness::point(kSphere));
+  for (int i = 0; i < 400; ++i) head.step(&kSphere);
+  return head.status().vergence_rad;
+}
+
+TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
+  const Eigen::Vector3d& sphere = kSphere;
+  GazeHarness head(eyes_on_sphere());
+  const double verged = verge_on_sphere(head);
   // One frame of an object crossing the line of sight: 40 px, then the target again.
   for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "a lone jump moved the eye";
@@ -375,14 +389,10 @@ TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
 }
 
 TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAnchorIsReturnedTo) {
-  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
-  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
-  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
-  head.build();
+  const Eigen::Vector3d& sphere = kSphere;
+  GazeHarness head(eyes_on_sphere());
   head.set_steady_fovea(true);
-  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
-  for (int i = 0; i < 400; ++i) head.step(&sphere);
-  const double verged = head.status().vergence_rad;
+  const double verged = verge_on_sphere(head);
   // Something crosses the verging eye's view only, for ten frames: the dominant eye still sees
   // the same surface, so its depth has not jumped, however many frames agree on 40 px.
   for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
@@ -400,13 +410,9 @@ TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAncho
 }
 
 TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {
-  const Eigen::Vector3d sphere(1.0, 0.14, 1.40);
-  const double on_target_deg = std::atan2(0.14 - 0.06, 0.96) / kDeg;
-  GazeHarness head({{"left_eye_pan", on_target_deg}, {"right_eye_pan", on_target_deg}});
-  head.build();
-  head.command(GazeAction::kFixate, GazeHarness::point(sphere));
-  for (int i = 0; i < 400; ++i) head.step(&sphere);
-  const double verged = head.status().vergence_rad;
+  const Eigen::Vector3d& sphere = kSphere;
+  GazeHarness head(eyes_on_sphere());
+  const double verged = verge_on_sphere(head);
   ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.05);
   // A ball 0.45 m in front of the dominant eye, on its line of sight, for 0.3 s: it crosses the
   // dominant eye's view too (no steady fovea), so the verging eye follows it and verges on it.

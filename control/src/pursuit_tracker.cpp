@@ -1,9 +1,18 @@
 #include "cambio/control/pursuit_tracker.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace cambio::control {
+namespace {
+
+/// How much faster than predicted a pursued target may turn (its direction seen from the eye)
+/// between two frames: a target at rest that starts at 45 deg/s, faster than the pursuit the
+/// stack is built for, still passes.
+constexpr double kMaxSurpriseSpeedRadPerS = 45.0 * std::numbers::pi / 180.0;
+
+}  // namespace
 
 PursuitTracker::PursuitTracker(const hal::CameraIntrinsics& intrinsics, double velocity_filter_s)
     : fx_px_(intrinsics.focal_x_px),
@@ -70,7 +79,19 @@ void PursuitTracker::update(const perception::MotionResult& motion, const Eigen:
       x = before_C.x() / before_C.z() + static_cast<double>(motion.flow_x_px) / fx_px_;
       y = before_C.y() / before_C.z() + static_cast<double>(motion.flow_y_px) / fy_px_;
     }
-    direction = (R_WC * Eigen::Vector3d(x, y, 1.0)).normalized();
+    const Eigen::Vector3d measured_direction = (R_WC * Eigen::Vector3d(x, y, 1.0)).normalized();
+    // A measurement that would need the target to move much faster than predicted is a false
+    // motion estimate (the fovea's window taken by the surround), not the target: extrapolate.
+    const double surprise_rad =
+        std::atan2(direction.cross(measured_direction).norm(), direction.dot(measured_direction));
+    if (surprise_rad > kMaxSurpriseSpeedRadPerS * dt_s) {
+      ++extrapolated_frames_;
+      direction_W_ = direction;
+      R_WC_ = R_WC;
+      stamp_ns_ = stamp_ns;
+      return;
+    }
+    direction = measured_direction;
     // The angular velocity that turned the old direction into the new one, low-pass filtered.
     const Eigen::Vector3d axis = direction_W_.cross(direction);
     const double sine = axis.norm();

@@ -162,6 +162,7 @@ void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* t
   if (!had_previous) {
     if (temporal != nullptr) std::fill(temporal, temporal + now.smooth.size(), 0.0f);
     have_key_ = false;
+    have_fovea_flow_ = false;
     track_key(now, out, out);
     return;
   }
@@ -173,8 +174,33 @@ void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* t
   if (!out.fixation_changed) {
     out.valid = track(now, before, levels_ - 1, 0.0f, 0.0f, out.flow_x_px, out.flow_y_px, out.level,
                       &out.per_level);
+    retry_fine_levels_from_last_flow(now, before, out);
+  }
+  have_fovea_flow_ = !out.fixation_changed && out.valid && out.level <= 1;
+  if (have_fovea_flow_) {
+    fovea_flow_x_ = out.flow_x_px;
+    fovea_flow_y_ = out.flow_y_px;
   }
   track_key(now, out, out);
+}
+
+void MotionEstimator::retry_fine_levels_from_last_flow(const Frame& now, const Frame& before,
+                                                       MotionResult& out) noexcept {
+  if ((out.valid && out.level == 0) || !have_fovea_flow_) return;
+  float flow_x = 0.0f;
+  float flow_y = 0.0f;
+  int level = -1;
+  std::array<LevelMotion, Retina::kMaxLevels> levels = out.per_level;
+  if (!track(now, before, std::min(1, levels_ - 1), fovea_flow_x_, fovea_flow_y_, flow_x, flow_y,
+             level, &levels) ||
+      (out.valid && level >= out.level)) {
+    return;
+  }
+  out.valid = true;
+  out.flow_x_px = flow_x;
+  out.flow_y_px = flow_y;
+  out.level = level;
+  out.per_level = levels;
 }
 
 void MotionEstimator::track_key(const Frame& now, const MotionResult& frame_to_frame,

@@ -74,5 +74,29 @@ TEST(PursuitTracker, AKeyFrameItDidNotSeeIsNotAdopted) {
   EXPECT_NEAR(kFocalPx * d.x() / d.z(), kFlowBias * kSpeedPxPerFrame, 1e-4);
 }
 
+TEST(PursuitTracker, AFlowTheTargetCouldNotHaveMadeIsNotFollowed) {
+  // Ten frames of a target moving 2 px a frame (3.4 deg/s at 500 px focal length), then one flow
+  // of 30 px the other way (the fovea's window taken by a background sweeping past: 0.06 rad in
+  // a frame, 103 deg/s of surprise), then the target's own flow again. The false reading is
+  // neither placed nor turned into velocity; the target is where its true motion puts it.
+  PursuitTracker tracker(intrinsics(), 0.1);
+  const Eigen::Matrix3d R_WC = Eigen::Matrix3d::Identity();
+  tracker.start(Eigen::Vector3d::UnitZ(), R_WC, 0);
+  constexpr int kFrames = 14;
+  constexpr int kFalse = 11;
+  for (int n = 1; n <= kFrames; ++n) {
+    perception::MotionResult motion;
+    motion.frame = static_cast<std::uint64_t>(n);
+    motion.valid = n > 1;
+    motion.flow_x_px = n == kFalse ? -30.0f : static_cast<float>(kSpeedPxPerFrame);
+    tracker.update(motion, R_WC, n * kFramePeriodNs);
+  }
+  const Eigen::Vector3d d = tracker.direction_W(kFrames * kFramePeriodNs);
+  // Frame 11 extrapolates with the filtered velocity (short of 2 px while it converges).
+  EXPECT_NEAR(kFocalPx * d.x() / d.z(), kSpeedPxPerFrame * (kFrames - 1), 1.0);
+  EXPECT_EQ(tracker.extrapolated_frames(), 2u);  // Frame 1 (no flow yet) and the false one.
+  EXPECT_GT(tracker.angular_velocity_W().y(), 0.0);
+}
+
 }  // namespace
 }  // namespace cambio::control

@@ -19,7 +19,9 @@ namespace cambio::control {
 /// S_now(p) = S_before(p - flow)); the position, seen from the camera's believed
 /// orientation when the frame was exposed, gives the target's direction in the base frame, and
 /// successive directions its angular velocity (low-pass filtered). A frame without a motion
-/// estimate (first frame, retina moved, untextured fovea) extrapolates with that velocity.
+/// estimate (first frame, retina moved, untextured fovea) extrapolates with that velocity, and so
+/// does one whose estimate would need the target to turn more than 45 deg/s faster than predicted
+/// (the fovea's window taken by the surround, not the target).
 /// Directions, not points: the target's depth is the caller's (vergence knows it).
 /// All methods are allocation-free and real-time safe.
 class PursuitTracker {

@@ -71,6 +71,14 @@ class MotionEstimator {
   bool track(const Frame& now, const Frame& reference, int from_level, float initial_x,
              float initial_y, float& flow_x, float& flow_y, int& finest_level,
              std::array<LevelMotion, Retina::kMaxLevels>* levels) const noexcept;
+  /// When coarse to fine did not reach the fovea (level 0), its two finest levels again, started
+  /// from the previous frame's flow if that was measured there. The coarse levels' windows are
+  /// mostly the surround: where its motion is not the fovea's (a target pursued across a
+  /// background, worse a periodic one) the fine levels, started from it, diverge; a fixated
+  /// target's own motion changes little from one frame to the next. Replaces `out`'s estimate
+  /// only when the retry reaches a finer level.
+  void retry_fine_levels_from_last_flow(const Frame& now, const Frame& before,
+                                        MotionResult& out) noexcept;
   /// The displacement since the key frame, then whether `now` becomes the next key.
   void track_key(const Frame& now, const MotionResult& frame_to_frame, MotionResult& out) noexcept;
   bool track_level(const Frame& now, const Frame& before, int k, float& ux, float& uy,
@@ -94,6 +102,10 @@ class MotionEstimator {
   std::uint64_t frames_seen_ = 0;
   std::uint64_t key_frame_ = 0;
   int key_age_frames_ = 0;
+  /// The previous frame's flow, when it was measured at the two finest levels.
+  bool have_fovea_flow_ = false;
+  float fovea_flow_x_ = 0.0f;
+  float fovea_flow_y_ = 0.0f;
   float key_to_previous_x_ = 0.0f;  ///< key_flow of the previous frame.
   float key_to_previous_y_ = 0.0f;
   std::vector<float> rows_smooth_;  ///< Row-pass scratch, width x (height + 2 half_width).

@@ -2,6 +2,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <charconv>
@@ -178,6 +179,76 @@ YAML::Node parse_one_document(const std::string& text, const std::string& name) 
   return root;
 }
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string path;
+  for (const std::string& name : names) path += (path.empty() ? "" : ".") + name;
+  return path;
+}
+
+/// The key paths `names` stands for in `node`: a `*` is each key of the map (each item of the
+/// list) the document holds at that place, so one `--set` reaches every camera or every joint.
+/// Names after the last `*` are kept as given (the override may create them). Returns what is
+/// wrong when a `*` matches nothing.
+std::optional<std::string> expand_wildcards(const YAML::Node& node,
+                                            const std::vector<std::string>& names, std::size_t i,
+                                            std::vector<std::string>& prefix,
+                                            std::vector<std::vector<std::string>>& paths) {
+  const auto star = std::find(names.begin() + static_cast<std::ptrdiff_t>(i), names.end(), "*");
+  if (star == names.end()) {
+    std::vector<std::string> path = prefix;
+    path.insert(path.end(), names.begin() + static_cast<std::ptrdiff_t>(i), names.end());
+    paths.push_back(std::move(path));
+    return std::nullopt;
+  }
+  const std::size_t before = prefix.size();
+  const auto restore = [&] { prefix.resize(before); };
+  YAML::Node current;
+  current.reset(node);
+  for (; names.begin() + static_cast<std::ptrdiff_t>(i) != star; ++i) {
+    const std::string& name = names[i];
+    const auto index = parse_index(name);
+    // A missing key reads as an invalid node, which assignment and reset() refuse: copied, then
+    // tested, before it is walked into.
+    const YAML::Node& view = current;
+    const auto lookup = [&]() -> YAML::Node {
+      if (current.IsMap()) return view[name];
+      if (current.IsSequence() && index && *index < current.size()) return view[*index];
+      return YAML::Node(YAML::NodeType::Undefined);
+    };
+    const YAML::Node child = lookup();
+    prefix.push_back(name);
+    if (!child.IsDefined() || child.IsNull()) {
+      std::string problem = "'*' matches nothing: the document has no " + joined(prefix);
+      restore();
+      return problem;
+    }
+    current.reset(child);
+  }
+  if (current.size() == 0 || !(current.IsMap() || current.IsSequence())) {
+    std::string problem =
+        "'*' matches nothing: " + (prefix.empty() ? "the document" : joined(prefix)) + " is " +
+        (current.IsMap() || current.IsSequence() ? "empty" : describe_kind(current)) +
+        ", not a map or list with entries";
+    restore();
+    return problem;
+  }
+  std::size_t item = 0;
+  for (auto it = current.begin(); it != current.end(); ++it, ++item) {
+    const bool in_map = current.IsMap();
+    if (in_map && !it->first.IsScalar()) continue;
+    prefix.push_back(in_map ? it->first.Scalar() : std::to_string(item));
+    const YAML::Node child = in_map ? it->second : *it;
+    const auto problem = expand_wildcards(child, names, i + 1, prefix, paths);
+    prefix.pop_back();
+    if (problem) {
+      restore();
+      return problem;
+    }
+  }
+  restore();
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<std::string> config_file_problem(const std::string& path) {
@@ -228,6 +299,7 @@ ConfigDocument ConfigDocument::parse(const std::string& text, const std::string&
   return document;
 }
 
+// A `*` in the key path is each key (list item) the document holds there (expand_wildcards).
 void ConfigDocument::apply(const ConfigOverride& override_value) {
   const auto fail = [&](std::string message) {
     issues_->add(ConfigIssue{"--set", 0, 0, override_value.key_path, std::move(message)});
@@ -262,56 +334,71 @@ void ConfigDocument::apply(const ConfigOverride& override_value) {
     start = dot + 1;
   }
 
-  // Walk with reset(): assigning one yaml-cpp Node to another would overwrite the tree.
-  YAML::Node current;
-  current.reset(root_);
-  std::string path;
-  bool created = false;  // Whether a map on the path is one this override made up.
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    const std::string& name = names[i];
-    const bool last = i + 1 == names.size();
-    const auto index = parse_index(name);
-    if (current.IsSequence() && index) {
-      if (*index >= current.size()) {
-        fail("cannot set item " + echoed(name) + " of " + path + ": the list has " +
-             std::to_string(current.size()) + " items");
-        return;
-      }
-      path += "[" + name + "]";
-      if (last) {
-        current[*index] = value;
-      } else {
-        YAML::Node next = current[*index];
-        current.reset(next);
-      }
-      continue;
-    }
-    if (!current.IsMap()) {
-      fail("cannot set " + echoed(name) + " under " + path + ": " + path + " is " +
-           describe_kind(current) + ", not a map");
-      return;
-    }
-    path += (path.empty() ? "" : ".") + name;
-    if (last) {
-      current[name] = value;
-      continue;
-    }
-    YAML::Node next = current[name];
-    if (!next.IsDefined() || next.IsNull()) {
-      if (!next.IsDefined() && !created) {
-        std::vector<std::string> file_keys;
-        for (auto it = current.begin(); it != current.end(); ++it) {
-          if (it->first.IsScalar()) file_keys.push_back(it->first.Scalar());
-        }
-        issues_->mark_created(path, std::move(file_keys));
-        created = true;
-      }
-      current[name] = YAML::Node(YAML::NodeType::Map);
-      next.reset(current[name]);
-    }
-    current.reset(next);
+  std::vector<std::vector<std::string>> paths;
+  std::vector<std::string> prefix;
+  if (const auto problem = expand_wildcards(root_, names, 0, prefix, paths)) {
+    fail(*problem);
+    return;
   }
-  issues_->mark_overridden(path);
+  // Walk with reset(): assigning one yaml-cpp Node to another would overwrite the tree.
+  const auto set_at = [&](const std::vector<std::string>& path_names,
+                          const YAML::Node& path_value) {
+    YAML::Node current;
+    current.reset(root_);
+    std::string path;
+    bool created = false;  // Whether a map on the path is one this override made up.
+    for (std::size_t i = 0; i < path_names.size(); ++i) {
+      const std::string& name = path_names[i];
+      const bool last = i + 1 == path_names.size();
+      const auto index = parse_index(name);
+      if (current.IsSequence() && index) {
+        if (*index >= current.size()) {
+          fail("cannot set item " + echoed(name) + " of " + path + ": the list has " +
+               std::to_string(current.size()) + " items");
+          return false;
+        }
+        path += "[" + name + "]";
+        if (last) {
+          current[*index] = path_value;
+        } else {
+          YAML::Node next = current[*index];
+          current.reset(next);
+        }
+        continue;
+      }
+      if (!current.IsMap()) {
+        fail("cannot set " + echoed(name) + " under " + path + ": " + path + " is " +
+             describe_kind(current) + ", not a map");
+        return false;
+      }
+      path += (path.empty() ? "" : ".") + name;
+      if (last) {
+        current[name] = path_value;
+        continue;
+      }
+      YAML::Node next = current[name];
+      if (!next.IsDefined() || next.IsNull()) {
+        if (!next.IsDefined() && !created) {
+          std::vector<std::string> file_keys;
+          for (auto it = current.begin(); it != current.end(); ++it) {
+            if (it->first.IsScalar()) file_keys.push_back(it->first.Scalar());
+          }
+          issues_->mark_created(path, std::move(file_keys));
+          created = true;
+        }
+        current[name] = YAML::Node(YAML::NodeType::Map);
+        next.reset(current[name]);
+      }
+      current.reset(next);
+    }
+    issues_->mark_overridden(path);
+    return true;
+  };
+  // A copy per path: yaml-cpp nodes are shared by reference, and a later `--set` of one camera's
+  // key must not change the others'.
+  for (const auto& path_names : paths) {
+    if (!set_at(path_names, YAML::Clone(value))) return;
+  }
 }
 
 MapReader ConfigDocument::root() {

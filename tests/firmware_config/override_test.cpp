@@ -79,6 +79,47 @@ TEST(Override, IndexesAList) {
   EXPECT_EQ(rig.find_camera("right_eye")->principal_x_px, 300.0);
 }
 
+TEST(Override, AStarSetsTheKeyUnderEveryEntryTheFileHas) {
+  // Both eyes at 320x240 with the same field of view: four --sets instead of eight. The last one
+  // changes the right eye's list alone: each eye got a copy of the value, not a shared node.
+  const RigConfig rig =
+      load_rig(test::shipped_rig_path("cambio.yaml"),
+               sets({"cameras.*.width_px=320", "cameras.*.height_px=240",
+                     "cameras.*.focal_px=277.128", "cameras.*.principal_point_px=[159.5,119.5]",
+                     "cameras.right_eye.principal_point_px.0=160"}));
+  for (const char* name : {"left_eye", "right_eye"}) {
+    const auto* camera = rig.find_camera(name);
+    ASSERT_NE(camera, nullptr) << name;
+    EXPECT_EQ(camera->width_px, 320) << name;
+    EXPECT_EQ(camera->height_px, 240) << name;
+    EXPECT_EQ(camera->focal_x_px, 277.128) << name;
+    EXPECT_EQ(camera->principal_y_px, 119.5) << name;
+  }
+  EXPECT_EQ(rig.find_camera("left_eye")->principal_x_px, 159.5);
+  EXPECT_EQ(rig.find_camera("right_eye")->principal_x_px, 160.0);
+}
+
+TEST(Override, EachKeyAStarReachesIsCheckedAndNamedOnItsOwn) {
+  const auto issues = issues_of(small_rig(), sets({"joints.*.max_velocity_rad_s=fast"}));
+  ASSERT_EQ(issues.size(), 2u) << describe(issues);
+  EXPECT_EQ(issues[0].to_string(),
+            "--set: joints.pan.max_velocity_rad_s: expected a number > 0, found \"fast\"");
+  EXPECT_EQ(issues[1].to_string(),
+            "--set: joints.tilt.max_velocity_rad_s: expected a number > 0, found \"fast\"");
+}
+
+TEST(Override, AStarThatMatchesNothingIsRefusedSayingWhere) {
+  const auto missing = issues_of(small_rig(), sets({"arms.*.reach_m=1"}));
+  ASSERT_EQ(missing.size(), 1u) << describe(missing);
+  EXPECT_EQ(missing[0].to_string(),
+            "--set: arms.*.reach_m: '*' matches nothing: the document has no arms");
+  const auto scalar = issues_of(small_rig(), sets({"rig.name.*=x"}));
+  ASSERT_EQ(scalar.size(), 1u) << describe(scalar);
+  EXPECT_EQ(scalar[0].key_path, "rig.name.*");
+  EXPECT_NE(scalar[0].message.find("'*' matches nothing: rig.name is "), std::string::npos)
+      << scalar[0].message;
+}
+
 TEST(Override, InvalidValueIsReportedAgainstSet) {
   const auto issues = issues_of(small_rig(), sets({"joints.pan.max_velocity_rad_s=fast"}));
   ASSERT_EQ(issues.size(), 1u) << describe(issues);

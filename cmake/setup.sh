@@ -27,6 +27,7 @@ packages=(
   libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo
+  cyclonedds-dev cyclonedds-tools rosidl-tools python3-rosidl python3-catkin-pkg python3-empy
   clang-format
 )
 

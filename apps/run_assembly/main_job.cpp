@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cambio/config/hardware_description.hpp"
+#include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
 #include "controller_params.hpp"
@@ -35,18 +36,23 @@ bool uses_wall_clock_backend(const hal::HardwareInfo& hardware,
   return paced;
 }
 
-// Backends are deactivated (drives quick-stopped and disabled) however a run ends.
+// Backends are deactivated (drives quick-stopped and disabled) however a run ends; the ROS 2
+// bridge publishes while they are active, its last message the state the run ended in.
 template <typename Backends>
 struct ActiveBackends {
-  explicit ActiveBackends(Backends& all) : backends(all) {
+  ActiveBackends(Backends& all, ros2::Ros2Bridge* ros2_bridge)
+      : backends(all), bridge(ros2_bridge) {
     for (auto& [name, backend] : backends) backend->activate();
+    if (bridge != nullptr) bridge->start();
   }
   ~ActiveBackends() {
+    if (bridge != nullptr) bridge->stop();
     for (auto& [name, backend] : backends) backend->deactivate();
   }
   ActiveBackends(const ActiveBackends&) = delete;
   ActiveBackends& operator=(const ActiveBackends&) = delete;
   Backends& backends;
+  ros2::Ros2Bridge* bridge;
 };
 
 }  // namespace
@@ -70,6 +76,7 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
   }
   build_backends(factory);
   build_loops();
+  build_ros2_bridge();
 }
 
 MainJob::~MainJob() = default;
@@ -86,7 +93,7 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
   };
   std::int64_t done_ns = 0;
   {
-    const ActiveBackends active(backends_);
+    const ActiveBackends active(backends_, ros2_bridge_.get());
     done_ns =
         executor_->run(stop, total_ns, [&](double done_s) { progress(done_s, wall_elapsed_s()); });
   }
@@ -107,7 +114,7 @@ MainJobResult MainJob::run_stepped(const std::atomic<bool>& stop,
   const auto wall_start = std::chrono::steady_clock::now();
   const std::int64_t start_ns = lockstep->clock().now_ns();
   {
-    const ActiveBackends active(backends_);
+    const ActiveBackends active(backends_, ros2_bridge_.get());
     lockstep->configure();
     // Loops are deactivated (drives stopped) even when the caller throws.
     struct Deactivate {

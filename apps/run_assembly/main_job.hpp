@@ -34,6 +34,10 @@
 #include "robot_actions.hpp"
 #include "run_trace.hpp"
 
+namespace cambio::ros2 {
+class Ros2Bridge;
+}
+
 namespace cambio::app {
 
 /// The experiment's behaviour could not be set up: a plugin that does not load, an unknown
@@ -65,7 +69,8 @@ struct MainJobOptions {
 ///       camera loop -> (stereo pairs) -> perception loop (SSM) -> control loop -> joint loop(s)
 ///     plus the backends' own loops (the sim's physics), and with a `behaviour:` the behaviour
 ///     loop (its plugins loaded, the built-ins registered; it is the gaze commands' writer in
-///     place of the script). Groups at the rig-wide joint rate share
+///     place of the script); with `ros2:`, the bridge to ROS 2 (its own thread, reading the
+///     joint loops' channels). Groups at the rig-wide joint rate share
 ///     the loop "joint"; groups with a rate_hz of their own run in a loop per rate
 ///     (control::plan_joint_loops), all reading the rig-wide targets and holding together.
 /// run() activates the backends, runs the executor (loops: configure, activate, update...,
@@ -158,6 +163,7 @@ class MainJob {
   void build_trace();
   void build_actions();
   void build_behaviour(const perception::SsmConfig& ssm);
+  void build_ros2_bridge();  // main_job_ros2.cpp
   void collect(MainJobResult& result);
   int joint_index(const std::string& joint_name) const;
   std::size_t camera_index(const std::string& camera_name) const;  // Rig order; throws if none.
@@ -209,6 +215,8 @@ class MainJob {
   std::unique_ptr<behaviour::Behaviour> behaviour_;
   std::unique_ptr<RobotActions> actions_;  // On this run's channels; null unless task gaze.
   std::unique_ptr<behaviour::BehaviourLoop> behaviour_loop_;
+  // With `ros2:`, the run as a ROS 2 node; publishing while run() or run_stepped() runs.
+  std::unique_ptr<ros2::Ros2Bridge> ros2_bridge_;
 };
 
 }  // namespace cambio::app

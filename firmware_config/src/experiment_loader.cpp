@@ -96,6 +96,20 @@ void read_fault_recovery(MapReader& experiment, ExperimentConfig& config) {
   }
 }
 
+void read_ros2(MapReader& experiment, ExperimentConfig& config) {
+  if (auto section = experiment.optional_map("ros2")) {
+    Ros2Config& ros2 = config.ros2.emplace();
+    // RTPS puts a domain's ports at 7400 + 250 * id: above 232 they leave the 16-bit range.
+    ros2.domain_id = static_cast<int>(section->integer_or(
+        "domain_id", ros2.domain_id,
+        Range::closed(0, 232).because("RTPS's ports for a higher domain exceed 65535")));
+    ros2.joint_states_hz =
+        section->number_or("joint_states_hz", ros2.joint_states_hz, Range::closed(0.0, 1000.0));
+    ros2.clock = section->boolean_or("clock", ros2.clock);
+    section->finish();
+  }
+}
+
 /// The vergence task (a top-level `vergence:`) was retired for the gaze task's vergence; the key
 /// is read here so that an old file is told where it went rather than that it is unknown.
 void report_retired_vergence(MapReader& experiment) {
@@ -219,6 +233,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   const PathResolver resolve(path);
   const AsWritten written = read_run_settings(experiment, resolve, config);
   read_fault_recovery(experiment, config);
+  read_ros2(experiment, config);
   report_retired_vergence(experiment);
   // The scene is loaded before the sections that name its objects.
   load_named_scene(document, experiment, written, overrides, config);

@@ -123,6 +123,33 @@ TEST(ExperimentLimits, DurationIsBoundedWithItsReason) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// ros2
+
+TEST(ExperimentRos2, AbsentMeansNoBridgeAndGivenKeysKeepTheOthersDefaults) {
+  const std::string rig = test::shipped_rig_path("pan_tilt.yaml");
+  EXPECT_FALSE(load_experiment_from_string(experiment_text(rig), "/tmp/e.yaml").ros2);
+  const ExperimentConfig config =
+      load_experiment_from_string(experiment_text(rig, "  ros2: {domain_id: 7}\n"), "/tmp/e.yaml");
+  ASSERT_TRUE(config.ros2);
+  EXPECT_EQ(config.ros2->domain_id, 7);
+  EXPECT_EQ(config.ros2->joint_states_hz, Ros2Config{}.joint_states_hz);
+  EXPECT_TRUE(config.ros2->clock);
+}
+
+TEST(ExperimentRos2, ADomainRtpsCannotNumberAndARateBelowZeroAreRefusedAtTheirKeys) {
+  const auto issues = experiment_issues(experiment_text(
+      test::shipped_rig_path("pan_tilt.yaml"), "  ros2: {domain_id: 233, joint_states_hz: -1}\n"));
+  ASSERT_EQ(issues.size(), 2u) << joined(issues);
+  EXPECT_NE(issues[0].find("experiment.ros2.domain_id: expected an integer in [0, 232] (RTPS's "
+                           "ports for a higher domain exceed 65535), found 233"),
+            std::string::npos)
+      << issues[0];
+  EXPECT_NE(issues[1].find("experiment.ros2.joint_states_hz: expected a number in [0, 1000]"),
+            std::string::npos)
+      << issues[1];
+}
+
+// ---------------------------------------------------------------------------------------------
 // initial_pose
 
 TEST(ExperimentInitialPose, AnUnknownKeyIsOfferedEveryJoint) {

@@ -34,6 +34,14 @@ struct FaultRecoveryConfig {
   int max_recoveries = 0;
 };
 
+/// The run as a ROS 2 node (`ros2:`): what it publishes over DDS (Cyclone, configured by its own
+/// CYCLONEDDS_URI), and on which domain.
+struct Ros2Config {
+  int domain_id = 0;              ///< ROS_DOMAIN_ID: 0-232.
+  double joint_states_hz = 50.0;  ///< /joint_states per second of wall time; 0: none.
+  bool clock = true;              ///< /clock on simulated-time (lockstep) runs.
+};
+
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.
 struct ExperimentConfig {
   std::string source_file;
@@ -58,6 +66,7 @@ struct ExperimentConfig {
   EvaluationConfig evaluation;
   std::vector<GoalConfig> goals;  ///< In file order; empty: nothing scored by name.
   FaultRecoveryConfig fault_recovery;
+  std::optional<Ros2Config> ros2;  ///< Absent: the run talks to no ROS 2 node.
   /// The loaded rig, overrides from the command line applied, and the experiment's
   /// `initial_pose` (joint name -> `<joint>_deg` or `<joint>_rad`) written into each joint's
   /// initial_position_rad.

@@ -1,0 +1,67 @@
+#include <time.h>
+
+#include <memory>
+
+#include "cambio/ros2/ros2_bridge.hpp"
+#include "main_job.hpp"
+
+// MainJob's bridge to ROS 2: the joint loops' published states as /joint_states (and /clock on
+// simulated time), sampled on the bridge's own thread.
+
+namespace cambio::app {
+namespace {
+
+std::int64_t clock_ns(clockid_t clock) {
+  timespec now{};
+  clock_gettime(clock, &now);
+  return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
+}
+
+}  // namespace
+
+void MainJob::build_ros2_bridge() {
+  if (!experiment_.ros2) return;
+  const config::Ros2Config& config = *experiment_.ros2;
+  ros2::BridgeSettings settings;
+  settings.domain_id = static_cast<std::uint32_t>(config.domain_id);
+  settings.joint_states_rate_hz = config.joint_states_hz;
+  // ROS time is the Unix epoch's; a wall-clock run's clock is CLOCK_MONOTONIC. A simulated run
+  // keeps its own time and says so on /clock.
+  settings.publish_clock = config.clock && !realtime_;
+  settings.epoch_offset_ns = realtime_ ? clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC) : 0;
+
+  // Each joint loop's newest frame, its joints put in rig order; the stamp is the newest of them.
+  struct Reader {
+    std::vector<const hal::SeqlockChannel<control::JointStateFrame>*> channels;
+    std::vector<std::vector<int>> rig_indices;
+    control::JointStateFrame frame;  // Scratch, the bridge's thread only.
+  };
+  auto reader = std::make_shared<Reader>();
+  for (const JointLoopSlot& slot : joint_loops_) {
+    reader->channels.push_back(slot.states.get());
+    reader->rig_indices.push_back(slot.rig_indices);
+  }
+  ros2::JointStatesSampler sampler = [reader](ros2::JointStatesSample& sample) {
+    std::int64_t newest_ns = 0;
+    for (std::size_t k = 0; k < reader->channels.size(); ++k) {
+      if (reader->channels[k]->version() == 0 || !reader->channels[k]->read(reader->frame)) {
+        return false;  // A loop that has not published yet (or kept every read torn).
+      }
+      const std::vector<int>& indices = reader->rig_indices[k];
+      const auto count = std::min(indices.size(), static_cast<std::size_t>(reader->frame.count));
+      for (std::size_t j = 0; j < count; ++j) {
+        const hal::JointState& state = reader->frame.states[j];
+        const auto rig = static_cast<std::size_t>(indices[j]);
+        sample.position_rad[rig] = state.position_rad;
+        sample.velocity_rad_s[rig] = state.velocity_rad_s;
+        sample.effort_nm[rig] = state.effort_nm;
+      }
+      newest_ns = std::max(newest_ns, reader->frame.stamp_ns);
+    }
+    sample.stamp_ns = newest_ns;
+    return true;
+  };
+  ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, joint_order_, std::move(sampler));
+}
+
+}  // namespace cambio::app

@@ -1,0 +1,201 @@
+#include <dds/dds.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "../../apps/run_cambio.hpp"
+#include "rosgraph_msgs/msg/Clock.h"
+#include "sensor_msgs/msg/JointState.h"
+
+// A second process on the DDS domain, as a ROS 2 node would be: it discovers what `cambio run`
+// publishes by DDS's own discovery (the names and QoS ROS 2 matches on) and reads the messages
+// with types generated from ROS 2's .msg files. The truth for the values is the experiment's
+// closed-form geometry, not the run's own report.
+
+namespace cambio {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / M_PI;
+
+struct Publication {
+  std::string type_name;
+  dds_reliability_kind_t reliability = DDS_RELIABILITY_BEST_EFFORT;
+  dds_history_kind_t history = DDS_HISTORY_KEEP_ALL;
+  int32_t depth = 0;
+};
+
+struct ReceivedJointState {
+  double stamp_s = 0.0;
+  std::vector<std::string> names;
+  std::vector<double> position_rad;
+  std::size_t velocities = 0;
+  std::size_t efforts = 0;
+};
+
+double seconds(const builtin_interfaces_msg_dds__Time_& t) {
+  return t.sec + t.nanosec * 1e-9;
+}
+
+// The peer's side of the domain: readers for /joint_states and /clock, and DDS's built-in
+// topic of publications (what ROS 2's `ros2 topic list -t` shows).
+class Peer {
+ public:
+  explicit Peer(dds_domainid_t domain) {
+    participant_ = dds_create_participant(domain, nullptr, nullptr);
+    EXPECT_GT(participant_, 0) << dds_strretcode(participant_);
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    const dds_entity_t joint_topic = dds_create_topic(
+        participant_, &sensor_msgs_msg_dds__JointState__desc, "rt/joint_states", nullptr, nullptr);
+    const dds_entity_t clock_topic = dds_create_topic(
+        participant_, &rosgraph_msgs_msg_dds__Clock__desc, "rt/clock", nullptr, nullptr);
+    joint_reader_ = dds_create_reader(participant_, joint_topic, qos, nullptr);
+    clock_reader_ = dds_create_reader(participant_, clock_topic, qos, nullptr);
+    publications_ =
+        dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
+    dds_delete_qos(qos);
+    EXPECT_GT(joint_reader_, 0);
+    EXPECT_GT(clock_reader_, 0);
+    EXPECT_GT(publications_, 0);
+  }
+  ~Peer() { dds_delete(participant_); }
+  Peer(const Peer&) = delete;
+  Peer& operator=(const Peer&) = delete;
+
+  void take() {
+    constexpr int kBatch = 64;
+    void* samples[kBatch] = {};
+    dds_sample_info_t infos[kBatch];
+    int n = 0;
+    while ((n = dds_take(joint_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m = static_cast<const sensor_msgs_msg_dds__JointState_*>(samples[i]);
+        ReceivedJointState r;
+        r.stamp_s = seconds(m->header.stamp);
+        for (uint32_t j = 0; j < m->name._length; ++j) r.names.emplace_back(m->name._buffer[j]);
+        r.position_rad.assign(m->position._buffer, m->position._buffer + m->position._length);
+        r.velocities = m->velocity._length;
+        r.efforts = m->effort._length;
+        joint_states.push_back(std::move(r));
+      }
+      dds_return_loan(joint_reader_, samples, n);
+    }
+    while ((n = dds_take(clock_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        clock_s.push_back(
+            seconds(static_cast<const rosgraph_msgs_msg_dds__Clock_*>(samples[i])->clock));
+      }
+      dds_return_loan(clock_reader_, samples, n);
+    }
+    while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* e = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
+        Publication p;
+        p.type_name = e->type_name;
+        dds_duration_t blocking = 0;
+        dds_qget_reliability(e->qos, &p.reliability, &blocking);
+        dds_qget_history(e->qos, &p.history, &p.depth);
+        publications[e->topic_name] = p;
+      }
+      dds_return_loan(publications_, samples, n);
+    }
+  }
+
+  std::vector<ReceivedJointState> joint_states;
+  std::vector<double> clock_s;
+  std::map<std::string, Publication> publications;
+
+ private:
+  dds_entity_t participant_ = 0;
+  dds_entity_t joint_reader_ = 0;
+  dds_entity_t clock_reader_ = 0;
+  dds_entity_t publications_ = 0;
+};
+
+class Ros2Wire : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // Loopback only, so parallel tests and other hosts never meet; a domain of this process's
+    // own keeps concurrent runs of this test apart.
+    const std::string config = std::string("file://") + CAMBIO_SOURCE_DIR +
+                               "/firmware_config/ros2/cyclonedds_localhost.xml";
+    setenv("CYCLONEDDS_URI", config.c_str(), 1);
+    domain_ = static_cast<dds_domainid_t>(1 + getpid() % 200);
+    out_ =
+        std::filesystem::temp_directory_path() / ("cambio_ros2_wire_" + std::to_string(getpid()));
+  }
+  void TearDown() override { std::filesystem::remove_all(out_); }
+
+  dds_domainid_t domain_ = 0;
+  std::filesystem::path out_;
+};
+
+TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointStatesUnderRos2sNamesTypesAndQos) {
+  Peer peer(domain_);
+  // The experiment's geometry (firmware_config/experiments/vergence_sphere.yaml): the dominant
+  // left eye on the sphere at atan2(0.08, 0.96); the right eye verged on the point its central
+  // ray meets, (0.900, 0.132) m, seen from (0.04, -0.06) m at atan2(0.192, 0.860).
+  const double left_truth_deg = std::atan2(0.08, 0.96) * kDegPerRad;
+  const double right_truth_deg = std::atan2(0.192, 0.860) * kDegPerRad;
+  auto run = std::async(std::launch::async, [&] {
+    return testing::run_cambio("run firmware_config/experiments/vergence_sphere.yaml --out '" +
+                               out_.string() +
+                               "' --set experiment.ros2.domain_id=" + std::to_string(domain_) +
+                               " --set experiment.ros2.joint_states_hz=100");
+  });
+  while (run.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) peer.take();
+  const testing::CommandResult result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  // The writer lingers for its reliable readers; the last samples may still be on the way.
+  for (int i = 0; i < 50; ++i) {
+    peer.take();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+
+  ASSERT_TRUE(peer.publications.contains("rt/joint_states"));
+  const Publication& joints = peer.publications.at("rt/joint_states");
+  EXPECT_EQ(joints.type_name, "sensor_msgs::msg::dds_::JointState_");
+  EXPECT_EQ(joints.reliability, DDS_RELIABILITY_RELIABLE);
+  EXPECT_EQ(joints.history, DDS_HISTORY_KEEP_LAST);
+  EXPECT_EQ(joints.depth, 10);
+  ASSERT_TRUE(peer.publications.contains("rt/clock"));
+  EXPECT_EQ(peer.publications.at("rt/clock").type_name, "rosgraph_msgs::msg::dds_::Clock_");
+
+  // A 2 s run at 100 Hz of wall time publishes far more than this whatever the machine's load.
+  ASSERT_GE(peer.joint_states.size(), 10u);
+  const std::vector<std::string> head = {"neck_pan", "neck_tilt", "eye_tilt", "left_eye_pan",
+                                         "right_eye_pan"};
+  double previous_stamp_s = -1.0;
+  for (const ReceivedJointState& m : peer.joint_states) {
+    ASSERT_EQ(m.names.size(), 15u);
+    EXPECT_TRUE(std::equal(head.begin(), head.end(), m.names.begin()));
+    EXPECT_EQ(m.position_rad.size(), m.names.size());
+    EXPECT_EQ(m.velocities, m.names.size());
+    EXPECT_EQ(m.efforts, m.names.size());
+    EXPECT_GT(m.stamp_s, previous_stamp_s) << "stamps go forward";
+    previous_stamp_s = m.stamp_s;
+  }
+  // Simulated time: the last state is the run's end (2 s), and /clock says the same.
+  const ReceivedJointState& last = peer.joint_states.back();
+  EXPECT_NEAR(last.stamp_s, 2.0, 0.01);
+  ASSERT_FALSE(peer.clock_s.empty());
+  EXPECT_NEAR(peer.clock_s.back(), last.stamp_s, 1e-9);
+  EXPECT_NEAR(last.position_rad[3] * kDegPerRad, left_truth_deg, 0.1);
+  EXPECT_NEAR(last.position_rad[4] * kDegPerRad, right_truth_deg, 0.2);
+}
+
+}  // namespace
+}  // namespace cambio

@@ -5,8 +5,9 @@
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "main_job.hpp"
 
-// MainJob's bridge to ROS 2: the joint loops' published states as /joint_states (and /clock on
-// simulated time), sampled on the bridge's own thread.
+// MainJob's bridge to ROS 2: the joint loops' published states as /joint_states and /tf (and
+// /clock on simulated time), sampled on the bridge's own thread; the cameras' mounts on
+// /tf_static.
 
 namespace cambio::app {
 namespace {
@@ -28,6 +29,7 @@ void MainJob::build_ros2_bridge() {
   // ROS time is the Unix epoch's; a wall-clock run's clock is CLOCK_MONOTONIC. A simulated run
   // keeps its own time and says so on /clock.
   settings.publish_clock = config.clock && !realtime_;
+  settings.publish_tf = config.tf;
   settings.epoch_offset_ns = realtime_ ? clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC) : 0;
 
   // Each joint loop's newest frame, its joints put in rig order; the stamp is the newest of them.
@@ -61,7 +63,8 @@ void MainJob::build_ros2_bridge() {
     sample.stamp_ns = newest_ns;
     return true;
   };
-  ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, joint_order_, std::move(sampler));
+  ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(
+      settings, joint_order_, ros2::make_tf_tree(hardware_, joint_order_), std::move(sampler));
 }
 
 }  // namespace cambio::app

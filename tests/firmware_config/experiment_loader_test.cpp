@@ -134,6 +134,7 @@ TEST(ExperimentRos2, AbsentMeansNoBridgeAndGivenKeysKeepTheOthersDefaults) {
   EXPECT_EQ(config.ros2->domain_id, 7);
   EXPECT_EQ(config.ros2->joint_states_hz, Ros2Config{}.joint_states_hz);
   EXPECT_TRUE(config.ros2->clock);
+  EXPECT_TRUE(config.ros2->tf);
 }
 
 TEST(ExperimentRos2, ADomainRtpsCannotNumberAndARateBelowZeroAreRefusedAtTheirKeys) {

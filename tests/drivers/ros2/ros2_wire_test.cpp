@@ -1,6 +1,7 @@
 #include <dds/dds.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <Eigen/Geometry>
 
 #include <chrono>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "../../apps/run_cambio.hpp"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/JointState.h"
+#include "tf2_msgs/msg/TFMessage.h"
 
 // A second process on the DDS domain, as a ROS 2 node would be: it discovers what `cambio run`
 // publishes by DDS's own discovery (the names and QoS ROS 2 matches on) and reads the messages
@@ -31,7 +33,15 @@ struct Publication {
   dds_reliability_kind_t reliability = DDS_RELIABILITY_BEST_EFFORT;
   dds_history_kind_t history = DDS_HISTORY_KEEP_ALL;
   int32_t depth = 0;
+  dds_durability_kind_t durability = DDS_DURABILITY_VOLATILE;
 };
+
+struct ReceivedTransform {
+  double stamp_s = 0.0;
+  std::string parent;
+  Eigen::Isometry3d X_PC = Eigen::Isometry3d::Identity();
+};
+using ReceivedTf = std::map<std::string, ReceivedTransform>;  // By child frame.
 
 struct ReceivedJointState {
   double stamp_s = 0.0;
@@ -45,6 +55,36 @@ double seconds(const builtin_interfaces_msg_dds__Time_& t) {
   return t.sec + t.nanosec * 1e-9;
 }
 
+ReceivedTf received_tf(const tf2_msgs_msg_dds__TFMessage_& message) {
+  ReceivedTf tf;
+  for (uint32_t i = 0; i < message.transforms._length; ++i) {
+    const geometry_msgs_msg_dds__TransformStamped_& t = message.transforms._buffer[i];
+    const auto& p = t.transform.translation;
+    const auto& q = t.transform.rotation;
+    ReceivedTransform r;
+    r.stamp_s = seconds(t.header.stamp);
+    r.parent = t.header.frame_id;
+    r.X_PC.translation() = Eigen::Vector3d(p.x, p.y, p.z);
+    r.X_PC.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).toRotationMatrix();
+    tf[t.child_frame_id] = r;
+  }
+  return tf;
+}
+
+// The pose of `frame` in `root`, following the parents tf names.
+Eigen::Isometry3d pose_in(const ReceivedTf& tf, const std::string& root, std::string frame) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  while (frame != root) {
+    const auto at = tf.find(frame);
+    if (at == tf.end()) {
+      ADD_FAILURE() << "no transform to " << frame;
+      return X;
+    }
+    X = at->second.X_PC * X;
+    frame = at->second.parent;
+  }
+  return X;
+}
 // The peer's side of the domain: readers for /joint_states and /clock, and DDS's built-in
 // topic of publications (what ROS 2's `ros2 topic list -t` shows).
 class Peer {
@@ -61,6 +101,13 @@ class Peer {
         participant_, &rosgraph_msgs_msg_dds__Clock__desc, "rt/clock", nullptr, nullptr);
     joint_reader_ = dds_create_reader(participant_, joint_topic, qos, nullptr);
     clock_reader_ = dds_create_reader(participant_, clock_topic, qos, nullptr);
+    const dds_entity_t tf_topic = dds_create_topic(participant_, &tf2_msgs_msg_dds__TFMessage__desc,
+                                                   "rt/tf", nullptr, nullptr);
+    const dds_entity_t tf_static_topic = dds_create_topic(
+        participant_, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
+    tf_reader_ = dds_create_reader(participant_, tf_topic, qos, nullptr);
+    dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+    tf_static_reader_ = dds_create_reader(participant_, tf_static_topic, qos, nullptr);
     publications_ =
         dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
     dds_delete_qos(qos);
@@ -99,6 +146,21 @@ class Peer {
       }
       dds_return_loan(clock_reader_, samples, n);
     }
+    while ((n = dds_take(tf_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        tf.push_back(received_tf(*static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[i])));
+      }
+      dds_return_loan(tf_reader_, samples, n);
+    }
+    while ((n = dds_take(tf_static_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        tf_static.push_back(
+            received_tf(*static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[i])));
+      }
+      dds_return_loan(tf_static_reader_, samples, n);
+    }
     while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
@@ -108,6 +170,7 @@ class Peer {
         dds_duration_t blocking = 0;
         dds_qget_reliability(e->qos, &p.reliability, &blocking);
         dds_qget_history(e->qos, &p.history, &p.depth);
+        dds_qget_durability(e->qos, &p.durability);
         publications[e->topic_name] = p;
       }
       dds_return_loan(publications_, samples, n);
@@ -116,12 +179,16 @@ class Peer {
 
   std::vector<ReceivedJointState> joint_states;
   std::vector<double> clock_s;
+  std::vector<ReceivedTf> tf;
+  std::vector<ReceivedTf> tf_static;
   std::map<std::string, Publication> publications;
 
  private:
   dds_entity_t participant_ = 0;
   dds_entity_t joint_reader_ = 0;
   dds_entity_t clock_reader_ = 0;
+  dds_entity_t tf_reader_ = 0;
+  dds_entity_t tf_static_reader_ = 0;
   dds_entity_t publications_ = 0;
 };
 
@@ -143,7 +210,7 @@ class Ros2Wire : public ::testing::Test {
   std::filesystem::path out_;
 };
 
-TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointStatesUnderRos2sNamesTypesAndQos) {
+TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos) {
   Peer peer(domain_);
   // The experiment's geometry (firmware_config/experiments/vergence_sphere.yaml): the dominant
   // left eye on the sphere at atan2(0.08, 0.96); the right eye verged on the point its central
@@ -195,6 +262,43 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointStatesUnderRos2sNamesTypesAndQos) 
   EXPECT_NEAR(peer.clock_s.back(), last.stamp_s, 1e-9);
   EXPECT_NEAR(last.position_rad[3] * kDegPerRad, left_truth_deg, 0.1);
   EXPECT_NEAR(last.position_rad[4] * kDegPerRad, right_truth_deg, 0.2);
+
+  // The rig's tree: every joint's link on /tf with each joint state, the cameras' optical frames
+  // once on /tf_static, kept for late joiners.
+  ASSERT_TRUE(peer.publications.contains("rt/tf"));
+  EXPECT_EQ(peer.publications.at("rt/tf").type_name, "tf2_msgs::msg::dds_::TFMessage_");
+  EXPECT_EQ(peer.publications.at("rt/tf").depth, 100);
+  ASSERT_TRUE(peer.publications.contains("rt/tf_static"));
+  EXPECT_EQ(peer.publications.at("rt/tf_static").durability, DDS_DURABILITY_TRANSIENT_LOCAL);
+  EXPECT_EQ(peer.publications.at("rt/tf_static").depth, 1);
+  ASSERT_EQ(peer.tf_static.size(), 1u);
+  ASSERT_TRUE(peer.tf_static[0].contains("left_eye_optical_frame"));
+  const ReceivedTransform& optical = peer.tf_static[0].at("left_eye_optical_frame");
+  EXPECT_EQ(optical.parent, "left_eye_pan");
+  // ROS's optical convention: z forward (the link's x), x right (the link's -y), y down (-z).
+  EXPECT_TRUE(optical.X_PC.linear().col(2).isApprox(Eigen::Vector3d::UnitX(), 1e-9));
+  EXPECT_TRUE(optical.X_PC.linear().col(0).isApprox(-Eigen::Vector3d::UnitY(), 1e-9));
+  ASSERT_FALSE(peer.tf.empty());
+  const ReceivedTf& tf = peer.tf.back();
+  ASSERT_EQ(tf.size(), 15u);
+  EXPECT_NEAR(tf.at("right_eye_pan").stamp_s, last.stamp_s, 1e-9);
+  // The head's chain written out from the rig file (rigs/cambio.yaml: each joint's origin and
+  // axis) at the last joint state's positions; the eyes' pan axes sit near (0.04, +-0.06, 1.40) m,
+  // the experiment's geometry, the neck barely moved.
+  const std::vector<double>& q = last.position_rad;
+  auto eye_in_base = [&q](double y_m, double pan_rad) {
+    using T = Eigen::Translation3d;
+    using R = Eigen::AngleAxisd;
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d y = Eigen::Vector3d::UnitY();
+    return Eigen::Isometry3d(T(0, 0, 1.20) * R(q[0], z) * T(0, 0, 0.10) * R(q[1], y) *
+                             T(0.04, 0, 0.10) * R(q[2], y) * T(0, y_m, 0) * R(pan_rad, z));
+  };
+  const Eigen::Isometry3d X_BL = pose_in(tf, "base", "left_eye_pan");
+  const Eigen::Isometry3d X_BR = pose_in(tf, "base", "right_eye_pan");
+  EXPECT_TRUE(X_BL.isApprox(eye_in_base(0.06, q[3]), 1e-9)) << X_BL.matrix();
+  EXPECT_TRUE(X_BR.isApprox(eye_in_base(-0.06, q[4]), 1e-9)) << X_BR.matrix();
+  EXPECT_LT((X_BL.translation() - Eigen::Vector3d(0.04, 0.06, 1.40)).norm(), 0.002);
 }
 
 }  // namespace

@@ -40,6 +40,7 @@ struct Ros2Config {
   int domain_id = 0;              ///< ROS_DOMAIN_ID: 0-232.
   double joint_states_hz = 50.0;  ///< /joint_states per second of wall time; 0: none.
   bool clock = true;              ///< /clock on simulated-time (lockstep) runs.
+  bool tf = true;                 ///< /tf with each joint state, /tf_static once.
 };
 
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.

@@ -6,8 +6,8 @@
 #include "main_job.hpp"
 
 // MainJob's bridge to ROS 2: the joint loops' published states as /joint_states and /tf (and
-// /clock on simulated time), sampled on the bridge's own thread; the cameras' mounts on
-// /tf_static.
+// /clock on simulated time), the stereo pair's images with their camera_info, sampled on the
+// bridge's own threads; the cameras' mounts on /tf_static.
 
 namespace cambio::app {
 namespace {
@@ -30,6 +30,7 @@ void MainJob::build_ros2_bridge() {
   // keeps its own time and says so on /clock.
   settings.publish_clock = config.clock && !realtime_;
   settings.publish_tf = config.tf;
+  settings.images_rate_hz = config.images_hz;
   settings.epoch_offset_ns = realtime_ ? clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC) : 0;
 
   // Each joint loop's newest frame, its joints put in rig order; the stamp is the newest of them.
@@ -63,8 +64,16 @@ void MainJob::build_ros2_bridge() {
     sample.stamp_ns = newest_ns;
     return true;
   };
-  ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(
-      settings, joint_order_, ros2::make_tf_tree(hardware_, joint_order_), std::move(sampler));
+  ros2::BridgeSources sources;
+  sources.joint_names = joint_order_;
+  sources.tf_tree = ros2::make_tf_tree(hardware_, joint_order_);
+  sources.joint_states = std::move(sampler);
+  if (config.images_hz > 0.0 && hardware_.stereo) {
+    sources.stereo_images = &camera_loop_->observed_stereo_frames();
+    sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
+                              hardware_.cameras[camera_index(hardware_.stereo->right_camera)]};
+  }
+  ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
 }
 
 }  // namespace cambio::app

@@ -107,6 +107,7 @@ void read_ros2(MapReader& experiment, ExperimentConfig& config) {
         section->number_or("joint_states_hz", ros2.joint_states_hz, Range::closed(0.0, 1000.0));
     ros2.clock = section->boolean_or("clock", ros2.clock);
     ros2.tf = section->boolean_or("tf", ros2.tf);
+    ros2.images_hz = section->number_or("images_hz", ros2.images_hz, Range::closed(0.0, 1000.0));
     section->finish();
   }
 }

@@ -64,6 +64,10 @@ hal::Status CameraLoop::update(const hal::LoopTick&) noexcept {
     left_new_ = left_new_ || left == hal::Status::kOk;
     right_new_ = right_new_ || right == hal::Status::kOk;
     if (left_new_ && right_new_) {
+      if (observed_stereo_channel_) {
+        observed_stereo_channel_->back() = pair;
+        observed_stereo_channel_->publish();
+      }
       stereo_channel_->publish();
       ++pairs_published_;
       left_new_ = right_new_ = false;
@@ -91,6 +95,15 @@ hal::TripleBuffer<hal::Image>& CameraLoop::frames(std::size_t camera_index) {
 hal::TripleBuffer<hal::StereoFrame>& CameraLoop::stereo_frames() {
   if (!stereo_channel_) throw std::logic_error("camera loop: no stereo pair");
   return *stereo_channel_;
+}
+
+hal::TripleBuffer<hal::StereoFrame>& CameraLoop::observed_stereo_frames() {
+  if (!stereo_channel_) throw std::logic_error("camera loop: no stereo pair");
+  if (!observed_stereo_channel_) {
+    observed_stereo_channel_ =
+        std::make_unique<hal::TripleBuffer<hal::StereoFrame>>(stereo_channel_->front());
+  }
+  return *observed_stereo_channel_;
 }
 
 }  // namespace cambio::perception

@@ -205,6 +205,36 @@ TEST(CameraLoop, PublishesAPairOnlyOnceBothEyesDeliveredAndNeverMixesOldAndNew) 
   EXPECT_EQ(loop.pairs_published(), 2u);
 }
 
+TEST(CameraLoop, AnObserverGetsEveryPublishedPairBesideThePerceptionLoopWithoutAllocating) {
+  IntermittentCamera left("left", {false, true, true, true, false});
+  IntermittentCamera right("right", {false, false, true, false, true});
+  CameraLoop loop({&left, &right}, StereoPairIndices{0, 1});
+  auto& observed = loop.observed_stereo_frames();
+  loop.configure();
+  auto& pairs = loop.stereo_frames();
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> seen_by_perception;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> seen_by_observer;
+  seen_by_perception.reserve(4);
+  seen_by_observer.reserve(4);
+  std::size_t observed_pixels = 0;
+  const std::uint64_t before = runtime::thread_allocation_count();
+  for (int cycle = 1; cycle <= 4; ++cycle) {
+    (void)loop.update(hal::LoopTick{});
+    if (pairs.acquire()) {
+      seen_by_perception.emplace_back(pairs.front().left.sequence, pairs.front().right.sequence);
+    }
+    if (observed.acquire()) {
+      seen_by_observer.emplace_back(observed.front().left.sequence,
+                                    observed.front().right.sequence);
+      observed_pixels = observed.front().left.pixels.size();
+    }
+  }
+  EXPECT_EQ(runtime::thread_allocation_count() - before, 0u);
+  EXPECT_EQ(observed_pixels, 32u * 24u);
+  EXPECT_EQ(seen_by_observer, seen_by_perception);
+  EXPECT_EQ(seen_by_observer.size(), 2u);
+}
+
 TEST(CameraLoop, DeclaresItAllocatesWhenOneOfItsCamerasDoes) {
   IntermittentCamera left("left", {});
   IntermittentCamera right("right", {});

@@ -2,6 +2,7 @@
 
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -9,6 +10,8 @@
 
 #include "cambio/ros2/ros_time.hpp"
 #include "rosgraph_msgs/msg/Clock.h"
+#include "sensor_msgs/msg/CameraInfo.h"
+#include "sensor_msgs/msg/Image.h"
 #include "sensor_msgs/msg/JointState.h"
 #include "tf2_msgs/msg/TFMessage.h"
 
@@ -19,45 +22,73 @@ namespace {
 constexpr std::size_t kMaxJoints = 256;
 constexpr double kMaxRateHz = 1000.0;
 
-std::string dds_error(const char* what, dds_return_t code) {
-  return std::string("ROS 2 bridge: cannot ") + what + ": " + dds_strretcode(code);
+std::string dds_error(const std::string& what, dds_return_t code) {
+  return "ROS 2 bridge: cannot " + what + ": " + dds_strretcode(code);
 }
 
-dds_entity_t checked(dds_entity_t entity, const char* what) {
+dds_entity_t checked(dds_entity_t entity, const std::string& what) {
   if (entity < 0) throw std::runtime_error(dds_error(what, entity));
   return entity;
 }
 
-// Reliable QoS as ROS 2 uses it: keep last 10 volatile for state and commands, keep last 100
-// for /tf, keep last 1 transient-local for /tf_static (late joiners get it).
-struct ReliableQos {
-  explicit ReliableQos(std::int32_t depth,
-                       dds_durability_kind_t durability = DDS_DURABILITY_VOLATILE)
+// QoS as ROS 2 uses it: reliable keep-last 10 volatile for state and commands, keep-last 100 for
+// /tf, keep-last 1 transient-local for /tf_static (late joiners get it); best-effort keep-last 5
+// for sensor data (rclcpp's SensorDataQoS).
+struct Qos {
+  Qos(dds_reliability_kind_t reliability, std::int32_t depth,
+      dds_durability_kind_t durability = DDS_DURABILITY_VOLATILE)
       : qos(dds_create_qos()) {
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    dds_qset_reliability(qos, reliability, DDS_MSECS(100));
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
     dds_qset_durability(qos, durability);
   }
-  ~ReliableQos() { dds_delete_qos(qos); }
-  ReliableQos(const ReliableQos&) = delete;
-  ReliableQos& operator=(const ReliableQos&) = delete;
+  ~Qos() { dds_delete_qos(qos); }
+  Qos(const Qos&) = delete;
+  Qos& operator=(const Qos&) = delete;
   dds_qos_t* qos;
 };
 
 // A topic and its writer under ROS 2's name for `ros_topic` (rmw_cyclonedds: "rt" + the name).
 dds_entity_t make_writer(dds_entity_t participant, const dds_topic_descriptor_t& type,
-                         const std::string& ros_topic, const ReliableQos& qos) {
+                         const std::string& ros_topic, const Qos& qos) {
   const std::string what = "create the writer of " + ros_topic;
-  const dds_entity_t topic =
-      checked(dds_create_topic(participant, &type, ("rt" + ros_topic).c_str(), qos.qos, nullptr),
-              what.c_str());
-  return checked(dds_create_writer(participant, topic, qos.qos, nullptr), what.c_str());
+  const dds_entity_t topic = checked(
+      dds_create_topic(participant, &type, ("rt" + ros_topic).c_str(), qos.qos, nullptr), what);
+  return checked(dds_create_writer(participant, topic, qos.qos, nullptr), what);
 }
 
 void set_transform(geometry_msgs_msg_dds__Transform_& out, const FrameTransform& in) {
   out.translation = {in.translation_m[0], in.translation_m[1], in.translation_m[2]};
   out.rotation = {in.rotation_xyzw[0], in.rotation_xyzw[1], in.rotation_xyzw[2],
                   in.rotation_xyzw[3]};
+}
+
+void check_rate(double rate_hz, const char* what) {
+  if (!(rate_hz >= 0.0 && rate_hz <= kMaxRateHz)) {
+    throw std::invalid_argument(std::string("ROS 2 bridge: ") + what + " rate " +
+                                std::to_string(rate_hz) + " Hz, expected 0 to 1000");
+  }
+}
+
+// sensor_msgs/CameraInfo of an unrectified camera: the plumb-bob model, R the identity, P the
+// intrinsics with no stereo shift (the eyes verge, so no pair of them is rectified; their poses
+// are on /tf).
+void fill_camera_info(sensor_msgs_msg_dds__CameraInfo_& out, const hal::CameraInfo& camera,
+                      std::array<double, 5>& distortion) {
+  const hal::CameraIntrinsics& in = camera.intrinsics;
+  out.height = static_cast<std::uint32_t>(in.height_px);
+  out.width = static_cast<std::uint32_t>(in.width_px);
+  out.distortion_model = const_cast<char*>("plumb_bob");
+  distortion = camera.distortion.opencv_order();
+  out.d = dds_sequence_double{5, 5, distortion.data(), false};
+  const double k[9] = {
+      in.focal_x_px, 0, in.principal_x_px, 0, in.focal_y_px, in.principal_y_px, 0, 0, 1};
+  const double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const double p[12] = {
+      in.focal_x_px, 0, in.principal_x_px, 0, 0, in.focal_y_px, in.principal_y_px, 0, 0, 0, 1, 0};
+  std::copy(std::begin(k), std::end(k), out.k);
+  std::copy(std::begin(r), std::end(r), out.r);
+  std::copy(std::begin(p), std::end(p), out.p);
 }
 
 }  // namespace
@@ -70,30 +101,33 @@ struct Ros2Bridge::Dds {
   dds_entity_t clock = 0;
   dds_entity_t tf = 0;
   dds_entity_t tf_static = 0;
-  std::vector<char*> names;  // Into the bridge's joint_names_; the message borrows them.
-  // One per joint, their frame names borrowed from the bridge's tf_tree_.
+  std::array<dds_entity_t, 2> images{};
+  std::array<dds_entity_t, 2> camera_infos{};
+  std::vector<char*> names;  // Into the sources' joint names; the message borrows them.
+  // One per joint, their frame names borrowed from the sources' tf tree.
   std::vector<geometry_msgs_msg_dds__TransformStamped_> joint_transforms;
+  std::array<sensor_msgs_msg_dds__CameraInfo_, 2> camera_info{};
+  std::array<std::array<double, 5>, 2> distortion{};
   ~Dds() {
     if (participant > 0) dds_delete(participant);
   }
 };
 
-Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, std::vector<std::string> joint_names,
-                       TfTree tf_tree, JointStatesSampler sampler)
-    : settings_(settings),
-      joint_names_(std::move(joint_names)),
-      tf_tree_(std::move(tf_tree)),
-      sampler_(std::move(sampler)) {
-  if (joint_names_.size() > kMaxJoints) {
-    throw std::invalid_argument("ROS 2 bridge: " + std::to_string(joint_names_.size()) +
-                                " joints, at most " + std::to_string(kMaxJoints));
+Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
+    : settings_(settings), sources_(std::move(sources)) {
+  const std::size_t n = sources_.joint_names.size();
+  if (n > kMaxJoints) {
+    throw std::invalid_argument("ROS 2 bridge: " + std::to_string(n) + " joints, at most " +
+                                std::to_string(kMaxJoints));
   }
-  if (!(settings_.joint_states_rate_hz >= 0.0 && settings_.joint_states_rate_hz <= kMaxRateHz)) {
-    throw std::invalid_argument("ROS 2 bridge: joint states rate " +
-                                std::to_string(settings_.joint_states_rate_hz) +
-                                " Hz, expected 0 to 1000");
+  check_rate(settings_.joint_states_rate_hz, "joint states");
+  check_rate(settings_.images_rate_hz, "images");
+  for (const TfJoint& joint : sources_.tf_tree.joints) {
+    if (joint.position_index >= n) {
+      throw std::invalid_argument("ROS 2 bridge: tf joint '" + joint.child_frame +
+                                  "' has no position in the joint states");
+    }
   }
-  const std::size_t n = joint_names_.size();
   sample_.position_rad.assign(n, 0.0);
   sample_.velocity_rad_s.assign(n, 0.0);
   sample_.effort_nm.assign(n, 0.0);
@@ -101,31 +135,38 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, std::vector<std::string> 
   dds_ = std::make_unique<Dds>();
   dds_->participant = checked(dds_create_participant(settings_.domain_id, nullptr, nullptr),
                               "join the DDS domain (check CYCLONEDDS_URI and the domain id)");
-  for (const TfJoint& joint : tf_tree_.joints) {
-    if (joint.position_index >= n) {
-      throw std::invalid_argument("ROS 2 bridge: tf joint '" + joint.child_frame +
-                                  "' has no position in the joint states");
-    }
-  }
-  const ReliableQos state_qos(10);
+  const dds_entity_t participant = dds_->participant;
+  const Qos state(DDS_RELIABILITY_RELIABLE, 10);
   if (settings_.joint_states_rate_hz > 0.0) {
-    dds_->joint_states = make_writer(dds_->participant, sensor_msgs_msg_dds__JointState__desc,
-                                     "/joint_states", state_qos);
+    dds_->joint_states =
+        make_writer(participant, sensor_msgs_msg_dds__JointState__desc, "/joint_states", state);
     if (settings_.publish_clock) {
-      dds_->clock =
-          make_writer(dds_->participant, rosgraph_msgs_msg_dds__Clock__desc, "/clock", state_qos);
+      dds_->clock = make_writer(participant, rosgraph_msgs_msg_dds__Clock__desc, "/clock", state);
     }
     if (settings_.publish_tf) {
-      dds_->tf = make_writer(dds_->participant, tf2_msgs_msg_dds__TFMessage__desc, "/tf",
-                             ReliableQos(100));
+      dds_->tf = make_writer(participant, tf2_msgs_msg_dds__TFMessage__desc, "/tf",
+                             Qos(DDS_RELIABILITY_RELIABLE, 100));
     }
   }
   if (settings_.publish_tf) {
-    dds_->tf_static = make_writer(dds_->participant, tf2_msgs_msg_dds__TFMessage__desc,
-                                  "/tf_static", ReliableQos(1, DDS_DURABILITY_TRANSIENT_LOCAL));
+    dds_->tf_static = make_writer(participant, tf2_msgs_msg_dds__TFMessage__desc, "/tf_static",
+                                  Qos(DDS_RELIABILITY_RELIABLE, 1, DDS_DURABILITY_TRANSIENT_LOCAL));
   }
-  for (std::string& name : joint_names_) dds_->names.push_back(name.data());
-  for (TfJoint& joint : tf_tree_.joints) {
+  if (settings_.images_rate_hz > 0.0 && sources_.stereo_images != nullptr) {
+    const Qos sensor_data(DDS_RELIABILITY_BEST_EFFORT, 5);
+    for (std::size_t eye = 0; eye < 2; ++eye) {
+      const hal::CameraInfo& camera = sources_.stereo_cameras[eye];
+      optical_frames_[eye] = camera.name + "_optical_frame";
+      dds_->images[eye] = make_writer(participant, sensor_msgs_msg_dds__Image__desc,
+                                      "/" + camera.name + "/image_raw", sensor_data);
+      dds_->camera_infos[eye] = make_writer(participant, sensor_msgs_msg_dds__CameraInfo__desc,
+                                            "/" + camera.name + "/camera_info", sensor_data);
+      fill_camera_info(dds_->camera_info[eye], camera, dds_->distortion[eye]);
+      dds_->camera_info[eye].header.frame_id = optical_frames_[eye].data();
+    }
+  }
+  for (std::string& name : sources_.joint_names) dds_->names.push_back(name.data());
+  for (TfJoint& joint : sources_.tf_tree.joints) {
     geometry_msgs_msg_dds__TransformStamped_ transform{};
     transform.header.frame_id = joint.parent_frame.data();
     transform.child_frame_id = joint.child_frame.data();
@@ -141,45 +182,68 @@ void Ros2Bridge::start() {
   if (started_) return;
   started_ = true;
   if (dds_->tf_static != 0) publish_tf_static();
-  if (dds_->joint_states != 0) thread_ = std::thread([this] { publish_loop(); });
+  if (dds_->joint_states != 0) {
+    threads_.emplace_back(
+        [this] { run_every(settings_.joint_states_rate_hz, &Ros2Bridge::publish_joint_states); });
+  }
+  if (dds_->images[0] != 0) {
+    threads_.emplace_back(
+        [this] { run_every(settings_.images_rate_hz, &Ros2Bridge::publish_images); });
+  }
 }
 
 void Ros2Bridge::stop() {
-  if (!thread_.joinable()) return;
   {
     const std::lock_guard lock(mutex_);
     stopping_ = true;
   }
   wake_.notify_all();
-  thread_.join();
+  for (std::thread& thread : threads_) thread.join();
+  threads_.clear();
 }
 
 BridgeCounts Ros2Bridge::counts() const {
-  return {joint_states_sent_.load(), clock_sent_.load(), tf_sent_.load(), write_errors_.load()};
+  BridgeCounts counts;
+  counts.joint_states = joint_states_sent_.load();
+  counts.clock = clock_sent_.load();
+  counts.tf = tf_sent_.load();
+  counts.images = images_sent_.load();
+  counts.camera_infos = camera_infos_sent_.load();
+  counts.write_errors = write_errors_.load();
+  return counts;
 }
 
-void Ros2Bridge::publish_loop() {
+void Ros2Bridge::run_every(double rate_hz, void (Ros2Bridge::*publish)()) {
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / settings_.joint_states_rate_hz));
+      std::chrono::duration<double>(1.0 / rate_hz));
   auto next = std::chrono::steady_clock::now();
   std::unique_lock lock(mutex_);
   while (!stopping_) {
     lock.unlock();
-    publish_newest();
+    (this->*publish)();
     lock.lock();
     // A late wake-up skips the ticks it missed rather than publishing them in a burst.
     next = std::max(next + period, std::chrono::steady_clock::now());
     wake_.wait_until(lock, next, [this] { return stopping_; });
   }
   lock.unlock();
-  publish_newest();  // The state the run ended in.
+  (this->*publish)();  // What the run ended with.
 }
 
-void Ros2Bridge::publish_newest() {
-  if (!sampler_(sample_) || sample_.stamp_ns == last_published_stamp_ns_) return;
+bool Ros2Bridge::write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>& sent) {
+  if (dds_write(writer, message) != DDS_RETCODE_OK) {
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  sent.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+void Ros2Bridge::publish_joint_states() {
+  if (!sources_.joint_states(sample_) || sample_.stamp_ns == last_published_stamp_ns_) return;
   last_published_stamp_ns_ = sample_.stamp_ns;
   const RosTime stamp = to_ros_time(sample_.stamp_ns, settings_.epoch_offset_ns);
-  const auto n = static_cast<std::uint32_t>(joint_names_.size());
+  const auto n = static_cast<std::uint32_t>(sources_.joint_names.size());
   auto sequence = [n](std::vector<double>& values) {
     return dds_sequence_double{n, n, values.data(), false};
   };
@@ -190,26 +254,18 @@ void Ros2Bridge::publish_newest() {
   message.position = sequence(sample_.position_rad);
   message.velocity = sequence(sample_.velocity_rad_s);
   message.effort = sequence(sample_.effort_nm);
-  if (dds_write(dds_->joint_states, &message) == DDS_RETCODE_OK) {
-    joint_states_sent_.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    write_errors_.fetch_add(1, std::memory_order_relaxed);
-  }
+  write(dds_->joint_states, &message, joint_states_sent_);
   if (dds_->clock != 0) {
     const rosgraph_msgs_msg_dds__Clock_ clock{{stamp.sec, stamp.nanosec}};
-    if (dds_write(dds_->clock, &clock) == DDS_RETCODE_OK) {
-      clock_sent_.fetch_add(1, std::memory_order_relaxed);
-    } else {
-      write_errors_.fetch_add(1, std::memory_order_relaxed);
-    }
+    write(dds_->clock, &clock, clock_sent_);
   }
   if (dds_->tf != 0) publish_tf(sample_.stamp_ns);
 }
 
 void Ros2Bridge::publish_tf(std::int64_t stamp_ns) {
   const RosTime stamp = to_ros_time(stamp_ns, settings_.epoch_offset_ns);
-  for (std::size_t k = 0; k < tf_tree_.joints.size(); ++k) {
-    const TfJoint& joint = tf_tree_.joints[k];
+  for (std::size_t k = 0; k < sources_.tf_tree.joints.size(); ++k) {
+    const TfJoint& joint = sources_.tf_tree.joints[k];
     geometry_msgs_msg_dds__TransformStamped_& out = dds_->joint_transforms[k];
     out.header.stamp = {stamp.sec, stamp.nanosec};
     set_transform(out.transform,
@@ -217,18 +273,14 @@ void Ros2Bridge::publish_tf(std::int64_t stamp_ns) {
   }
   const auto n = static_cast<std::uint32_t>(dds_->joint_transforms.size());
   const tf2_msgs_msg_dds__TFMessage_ message{{n, n, dds_->joint_transforms.data(), false}};
-  if (dds_write(dds_->tf, &message) == DDS_RETCODE_OK) {
-    tf_sent_.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    write_errors_.fetch_add(1, std::memory_order_relaxed);
-  }
+  write(dds_->tf, &message, tf_sent_);
 }
 
 void Ros2Bridge::publish_tf_static() {
   // Fixed frames hold for all time; tf ignores a static transform's stamp.
   const RosTime stamp = to_ros_time(0, settings_.epoch_offset_ns);
   std::vector<geometry_msgs_msg_dds__TransformStamped_> transforms;
-  for (TfFixed& fixed : tf_tree_.fixed) {
+  for (TfFixed& fixed : sources_.tf_tree.fixed) {
     geometry_msgs_msg_dds__TransformStamped_ transform{};
     transform.header.stamp = {stamp.sec, stamp.nanosec};
     transform.header.frame_id = fixed.parent_frame.data();
@@ -238,11 +290,34 @@ void Ros2Bridge::publish_tf_static() {
   }
   const auto n = static_cast<std::uint32_t>(transforms.size());
   const tf2_msgs_msg_dds__TFMessage_ message{{n, n, transforms.data(), false}};
-  if (dds_write(dds_->tf_static, &message) == DDS_RETCODE_OK) {
-    tf_sent_.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    write_errors_.fetch_add(1, std::memory_order_relaxed);
-  }
+  write(dds_->tf_static, &message, tf_sent_);
+}
+
+void Ros2Bridge::publish_images() {
+  if (!sources_.stereo_images->acquire()) return;
+  const hal::StereoFrame& pair = sources_.stereo_images->front();
+  publish_image(0, pair.left);
+  publish_image(1, pair.right);
+}
+
+void Ros2Bridge::publish_image(std::size_t eye, const hal::Image& image) {
+  const RosTime stamp = to_ros_time(image.stamp_ns, settings_.epoch_offset_ns);
+  sensor_msgs_msg_dds__Image_ message{};
+  message.header.stamp = {stamp.sec, stamp.nanosec};
+  message.header.frame_id = optical_frames_[eye].data();
+  message.height = static_cast<std::uint32_t>(image.height_px);
+  message.width = static_cast<std::uint32_t>(image.width_px);
+  message.encoding = const_cast<char*>(image.format == hal::PixelFormat::kRgb8 ? "rgb8" : "mono8");
+  message.is_bigendian = 0;
+  message.step = static_cast<std::uint32_t>(image.stride_bytes());
+  const auto size = static_cast<std::uint32_t>(image.pixels.size());
+  // Borrowed: the writer serializes before dds_write returns.
+  message.data =
+      dds_sequence_uint8{size, size, const_cast<std::uint8_t*>(image.pixels.data()), false};
+  if (!write(dds_->images[eye], &message, images_sent_)) return;
+  sensor_msgs_msg_dds__CameraInfo_& info = dds_->camera_info[eye];
+  info.header.stamp = message.header.stamp;
+  write(dds_->camera_infos[eye], &info, camera_infos_sent_);
 }
 
 }  // namespace cambio::ros2

@@ -3,18 +3,23 @@
 #include <unistd.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <future>
 #include <map>
+#include <numeric>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "../../apps/run_cambio.hpp"
 #include "rosgraph_msgs/msg/Clock.h"
+#include "sensor_msgs/msg/CameraInfo.h"
+#include "sensor_msgs/msg/Image.h"
 #include "sensor_msgs/msg/JointState.h"
 #include "tf2_msgs/msg/TFMessage.h"
 
@@ -42,6 +47,26 @@ struct ReceivedTransform {
   Eigen::Isometry3d X_PC = Eigen::Isometry3d::Identity();
 };
 using ReceivedTf = std::map<std::string, ReceivedTransform>;  // By child frame.
+
+struct ReceivedImage {
+  double stamp_s = 0.0;
+  std::string frame_id;
+  std::string encoding;
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::uint32_t step = 0;
+  std::size_t bytes = 0;
+  double mean_level = 0.0;
+  double level_spread = 0.0;  // Max minus min: a blank frame has none.
+};
+
+struct ReceivedCameraInfo {
+  std::string frame_id;
+  std::string distortion_model;
+  std::size_t distortion_count = 0;
+  std::array<double, 9> k{};
+  std::array<double, 12> p{};
+};
 
 struct ReceivedJointState {
   double stamp_s = 0.0;
@@ -108,6 +133,19 @@ class Peer {
     tf_reader_ = dds_create_reader(participant_, tf_topic, qos, nullptr);
     dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     tf_static_reader_ = dds_create_reader(participant_, tf_static_topic, qos, nullptr);
+    // Sensor data as ROS 2 sends it: best effort.
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+    image_reader_ =
+        dds_create_reader(participant_,
+                          dds_create_topic(participant_, &sensor_msgs_msg_dds__Image__desc,
+                                           "rt/left_eye/image_raw", nullptr, nullptr),
+                          qos, nullptr);
+    camera_info_reader_ =
+        dds_create_reader(participant_,
+                          dds_create_topic(participant_, &sensor_msgs_msg_dds__CameraInfo__desc,
+                                           "rt/left_eye/camera_info", nullptr, nullptr),
+                          qos, nullptr);
     publications_ =
         dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
     dds_delete_qos(qos);
@@ -161,6 +199,42 @@ class Peer {
       }
       dds_return_loan(tf_static_reader_, samples, n);
     }
+    while ((n = dds_take(image_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m = static_cast<const sensor_msgs_msg_dds__Image_*>(samples[i]);
+        ReceivedImage r;
+        r.stamp_s = seconds(m->header.stamp);
+        r.frame_id = m->header.frame_id;
+        r.encoding = m->encoding;
+        r.width = m->width;
+        r.height = m->height;
+        r.step = m->step;
+        r.bytes = m->data._length;
+        const std::uint8_t* data = m->data._buffer;
+        if (r.bytes > 0) {
+          const auto [low, high] = std::minmax_element(data, data + r.bytes);
+          r.level_spread = *high - *low;
+          r.mean_level = std::accumulate(data, data + r.bytes, 0.0) / static_cast<double>(r.bytes);
+        }
+        images.push_back(r);
+      }
+      dds_return_loan(image_reader_, samples, n);
+    }
+    while ((n = dds_take(camera_info_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m = static_cast<const sensor_msgs_msg_dds__CameraInfo_*>(samples[i]);
+        ReceivedCameraInfo r;
+        r.frame_id = m->header.frame_id;
+        r.distortion_model = m->distortion_model;
+        r.distortion_count = m->d._length;
+        std::copy(m->k, m->k + 9, r.k.begin());
+        std::copy(m->p, m->p + 12, r.p.begin());
+        camera_infos.push_back(r);
+      }
+      dds_return_loan(camera_info_reader_, samples, n);
+    }
     while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
@@ -181,6 +255,8 @@ class Peer {
   std::vector<double> clock_s;
   std::vector<ReceivedTf> tf;
   std::vector<ReceivedTf> tf_static;
+  std::vector<ReceivedImage> images;
+  std::vector<ReceivedCameraInfo> camera_infos;
   std::map<std::string, Publication> publications;
 
  private:
@@ -189,6 +265,8 @@ class Peer {
   dds_entity_t clock_reader_ = 0;
   dds_entity_t tf_reader_ = 0;
   dds_entity_t tf_static_reader_ = 0;
+  dds_entity_t image_reader_ = 0;
+  dds_entity_t camera_info_reader_ = 0;
   dds_entity_t publications_ = 0;
 };
 
@@ -299,6 +377,37 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos
   EXPECT_TRUE(X_BL.isApprox(eye_in_base(0.06, q[3]), 1e-9)) << X_BL.matrix();
   EXPECT_TRUE(X_BR.isApprox(eye_in_base(-0.06, q[4]), 1e-9)) << X_BR.matrix();
   EXPECT_LT((X_BL.translation() - Eigen::Vector3d(0.04, 0.06, 1.40)).norm(), 0.002);
+
+  // The left eye's images, as the rig describes them (rigs/cambio.yaml: 640x480 rgb8, f = 554.256
+  // px, principal point at the centre, (w - 1) / 2 and (h - 1) / 2), best effort, in its optical
+  // frame, stamped on the run's clock, and not blank (the sphere before a textured backdrop).
+  ASSERT_TRUE(peer.publications.contains("rt/left_eye/image_raw"));
+  const Publication& images = peer.publications.at("rt/left_eye/image_raw");
+  EXPECT_EQ(images.type_name, "sensor_msgs::msg::dds_::Image_");
+  EXPECT_EQ(images.reliability, DDS_RELIABILITY_BEST_EFFORT);
+  EXPECT_EQ(images.depth, 5);
+  ASSERT_FALSE(peer.images.empty());
+  for (const ReceivedImage& image : peer.images) {
+    EXPECT_EQ(image.frame_id, "left_eye_optical_frame");
+    EXPECT_EQ(image.encoding, "rgb8");
+    EXPECT_EQ(image.width, 640u);
+    EXPECT_EQ(image.height, 480u);
+    EXPECT_EQ(image.step, 640u * 3u);
+    EXPECT_EQ(image.bytes, 640u * 480u * 3u);
+    EXPECT_GT(image.level_spread, 50.0);
+    EXPECT_GE(image.stamp_s, 0.0);
+    EXPECT_LE(image.stamp_s, 2.0);
+  }
+  ASSERT_FALSE(peer.camera_infos.empty());
+  const ReceivedCameraInfo& info = peer.camera_infos.back();
+  EXPECT_EQ(info.frame_id, "left_eye_optical_frame");
+  EXPECT_EQ(info.distortion_model, "plumb_bob");
+  EXPECT_EQ(info.distortion_count, 5u);
+  const std::array<double, 9> k = {554.256, 0, 319.5, 0, 554.256, 239.5, 0, 0, 1};
+  const std::array<double, 12> projection = {554.256, 0, 319.5, 0, 0, 554.256,
+                                             239.5,   0, 0,     0, 1, 0};
+  EXPECT_EQ(info.k, k);
+  EXPECT_EQ(info.p, projection);
 }
 
 }  // namespace

@@ -41,6 +41,7 @@ struct Ros2Config {
   double joint_states_hz = 50.0;  ///< /joint_states per second of wall time; 0: none.
   bool clock = true;              ///< /clock on simulated-time (lockstep) runs.
   bool tf = true;                 ///< /tf with each joint state, /tf_static once.
+  double images_hz = 15.0;        ///< The stereo pair's images per second of wall time; 0: none.
 };
 
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.

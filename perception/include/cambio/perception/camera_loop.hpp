@@ -44,6 +44,10 @@ class CameraLoop final : public hal::Loop {
   hal::TripleBuffer<hal::Image>& frames(std::size_t camera_index);
   /// The stereo pairs. One reader (the perception loop). Throws if the loop has no pair.
   hal::TripleBuffer<hal::StereoFrame>& stereo_frames();
+  /// The same pairs on a channel of their own, for one more reader (the ROS 2 bridge's images):
+  /// made on the first call, which must come before the executor runs the loop; each published
+  /// pair is then copied into it too (same sizes: no allocation). Throws if the loop has no pair.
+  hal::TripleBuffer<hal::StereoFrame>& observed_stereo_frames();
   bool has_stereo() const { return stereo_channel_ != nullptr; }
 
   std::uint64_t frames_grabbed() const { return frames_grabbed_; }
@@ -57,6 +61,7 @@ class CameraLoop final : public hal::Loop {
   std::optional<StereoPairIndices> stereo_;
   std::vector<std::unique_ptr<hal::TripleBuffer<hal::Image>>> channels_;  // Null for the pair.
   std::unique_ptr<hal::TripleBuffer<hal::StereoFrame>> stereo_channel_;
+  std::unique_ptr<hal::TripleBuffer<hal::StereoFrame>> observed_stereo_channel_;
   std::uint64_t frames_grabbed_ = 0;
   std::uint64_t pairs_published_ = 0;
   std::uint64_t incomplete_pairs_ = 0;

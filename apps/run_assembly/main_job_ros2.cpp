@@ -37,29 +37,30 @@ void MainJob::build_ros2_bridge() {
   struct Reader {
     std::vector<const hal::SeqlockChannel<control::JointStateFrame>*> channels;
     std::vector<std::vector<int>> rig_indices;
-    control::JointStateFrame frame;  // Scratch, the bridge's thread only.
   };
   auto reader = std::make_shared<Reader>();
   for (const JointLoopSlot& slot : joint_loops_) {
     reader->channels.push_back(slot.states.get());
     reader->rig_indices.push_back(slot.rig_indices);
   }
+  // Called from the bridge's joint-state and command threads: its scratch frame is its own.
   ros2::JointStatesSampler sampler = [reader](ros2::JointStatesSample& sample) {
     std::int64_t newest_ns = 0;
+    control::JointStateFrame frame;
     for (std::size_t k = 0; k < reader->channels.size(); ++k) {
-      if (reader->channels[k]->version() == 0 || !reader->channels[k]->read(reader->frame)) {
+      if (reader->channels[k]->version() == 0 || !reader->channels[k]->read(frame)) {
         return false;  // A loop that has not published yet (or kept every read torn).
       }
       const std::vector<int>& indices = reader->rig_indices[k];
-      const auto count = std::min(indices.size(), static_cast<std::size_t>(reader->frame.count));
+      const auto count = std::min(indices.size(), static_cast<std::size_t>(frame.count));
       for (std::size_t j = 0; j < count; ++j) {
-        const hal::JointState& state = reader->frame.states[j];
+        const hal::JointState& state = frame.states[j];
         const auto rig = static_cast<std::size_t>(indices[j]);
         sample.position_rad[rig] = state.position_rad;
         sample.velocity_rad_s[rig] = state.velocity_rad_s;
         sample.effort_nm[rig] = state.effort_nm;
       }
-      newest_ns = std::max(newest_ns, reader->frame.stamp_ns);
+      newest_ns = std::max(newest_ns, frame.stamp_ns);
     }
     sample.stamp_ns = newest_ns;
     return true;
@@ -72,6 +73,13 @@ void MainJob::build_ros2_bridge() {
     sources.stereo_images = &camera_loop_->observed_stereo_frames();
     sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
                               hardware_.cameras[camera_index(hardware_.stereo->right_camera)]};
+  }
+  if (config.commands && actions_) {
+    // Through the same actions as the console and behaviours: the same checks, one writer.
+    sources.look_at = [actions = actions_.get()](const Eigen::Vector3d& p_base_m) {
+      const behaviour::ActionResult result = actions->look_at_point(p_base_m);
+      return result.sent ? std::string() : result.message;
+    };
   }
   ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
 }

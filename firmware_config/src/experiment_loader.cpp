@@ -108,7 +108,21 @@ void read_ros2(MapReader& experiment, ExperimentConfig& config) {
     ros2.clock = section->boolean_or("clock", ros2.clock);
     ros2.tf = section->boolean_or("tf", ros2.tf);
     ros2.images_hz = section->number_or("images_hz", ros2.images_hz, Range::closed(0.0, 1000.0));
+    ros2.commands = section->boolean_or("commands", ros2.commands);
     section->finish();
+  }
+}
+
+/// ROS 2 commands drive the gaze loop, whose command channel takes one writer: a behaviour
+/// would be a second (the script's `commands` are refused where they are read).
+void check_ros2_commands(MapReader& experiment, const ExperimentConfig& config) {
+  if (!config.ros2 || !config.ros2->commands) return;
+  if (config.task != ControlTask::kGaze) {
+    experiment.error("ros2", "commands: true needs task gaze (the gaze loop takes the commands)");
+  } else if (config.behaviour) {
+    experiment.error("ros2",
+                     "commands: true takes the gaze loop's commands from ROS 2; this experiment's "
+                     "behaviour sends its own: keep one");
   }
 }
 
@@ -156,6 +170,13 @@ void read_task_sections(MapReader& experiment, const PathResolver& resolve,
         experiment.error("commands",
                          "a run with a behaviour takes its gaze commands from it: give either "
                          "behaviour or commands, not both");
+      }
+    } else if (config.ros2 && config.ros2->commands) {
+      // Likewise ROS 2 (/cambio/look_at) or the script.
+      if (experiment.has("commands")) {
+        experiment.error("commands",
+                         "a run with ros2.commands takes its gaze commands from ROS 2: give "
+                         "either ros2.commands or commands, not both");
       }
     } else {
       config.commands = read_gaze_commands(experiment, config.duration_s, scene, pixel_targets);
@@ -244,6 +265,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   // Pixel targets are checked against the dominant eye's image once the rig is loaded.
   std::vector<PendingPixelTarget> pixel_targets;
   read_task_sections(experiment, resolve, scene, pixel_targets, config);
+  check_ros2_commands(experiment, config);
   if (auto evaluation = experiment.optional_map("evaluation")) {
     config.evaluation = read_evaluation(std::move(*evaluation), config.duration_s, scene);
   }

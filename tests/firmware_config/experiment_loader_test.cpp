@@ -150,6 +150,21 @@ TEST(ExperimentRos2, ADomainRtpsCannotNumberAndARateBelowZeroAreRefusedAtTheirKe
       << issues[1];
 }
 
+TEST(ExperimentRos2, CommandsFromRos2AreTheGazeLoopsOnlyWriter) {
+  const std::string rig = test::shipped_rig_path("cambio.yaml");
+  const auto with_script = experiment_issues(experiment_text(
+      rig, "  task: gaze\n  ros2: {commands: true}\n  commands:\n    - {at_s: 0, pursue: {}}\n"));
+  ASSERT_EQ(with_script.size(), 1u) << joined(with_script);
+  EXPECT_NE(with_script[0].find("experiment.commands: a run with ros2.commands takes its gaze "
+                                "commands from ROS 2"),
+            std::string::npos)
+      << with_script[0];
+  const auto holding = experiment_issues(experiment_text(rig, "  ros2: {commands: true}\n"));
+  ASSERT_EQ(holding.size(), 1u) << joined(holding);
+  EXPECT_NE(holding[0].find("experiment.ros2: commands: true needs task gaze"), std::string::npos)
+      << holding[0];
+}
+
 // ---------------------------------------------------------------------------------------------
 // initial_pose
 

@@ -5,14 +5,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 #include <utility>
+
+#include "geometry_msgs/msg/PointStamped.h"
 
 #include "cambio/ros2/ros_time.hpp"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
 #include "sensor_msgs/msg/Image.h"
 #include "sensor_msgs/msg/JointState.h"
+#include "std_msgs/msg/String.h"
 #include "tf2_msgs/msg/TFMessage.h"
 
 namespace cambio::ros2 {
@@ -103,6 +107,10 @@ struct Ros2Bridge::Dds {
   dds_entity_t tf_static = 0;
   std::array<dds_entity_t, 2> images{};
   std::array<dds_entity_t, 2> camera_infos{};
+  dds_entity_t look_at = 0;   // Reader.
+  dds_entity_t refusals = 0;  // Writer.
+  dds_entity_t waitset = 0;   // The command thread's: new commands, or stop.
+  dds_entity_t stop_guard = 0;
   std::vector<char*> names;  // Into the sources' joint names; the message borrows them.
   // One per joint, their frame names borrowed from the sources' tf tree.
   std::vector<geometry_msgs_msg_dds__TransformStamped_> joint_transforms;
@@ -131,6 +139,7 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
   sample_.position_rad.assign(n, 0.0);
   sample_.velocity_rad_s.assign(n, 0.0);
   sample_.effort_nm.assign(n, 0.0);
+  command_sample_ = sample_;
 
   dds_ = std::make_unique<Dds>();
   dds_->participant = checked(dds_create_participant(settings_.domain_id, nullptr, nullptr),
@@ -165,6 +174,24 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
       dds_->camera_info[eye].header.frame_id = optical_frames_[eye].data();
     }
   }
+  if (sources_.look_at) {
+    dds_->refusals =
+        make_writer(participant, std_msgs_msg_dds__String__desc, "/cambio/refusals", state);
+    const std::string what = "create the reader of /cambio/look_at";
+    const dds_entity_t topic =
+        checked(dds_create_topic(participant, &geometry_msgs_msg_dds__PointStamped__desc,
+                                 "rt/cambio/look_at", state.qos, nullptr),
+                what);
+    dds_->look_at = checked(dds_create_reader(participant, topic, state.qos, nullptr), what);
+    dds_->waitset = checked(dds_create_waitset(participant), what);
+    dds_->stop_guard = checked(dds_create_guardcondition(participant), what);
+    const dds_entity_t readable =
+        checked(dds_create_readcondition(dds_->look_at, DDS_ANY_STATE), what);
+    if (dds_waitset_attach(dds_->waitset, readable, 0) != DDS_RETCODE_OK ||
+        dds_waitset_attach(dds_->waitset, dds_->stop_guard, 0) != DDS_RETCODE_OK) {
+      throw std::runtime_error("ROS 2 bridge: cannot " + what);
+    }
+  }
   for (std::string& name : sources_.joint_names) dds_->names.push_back(name.data());
   for (TfJoint& joint : sources_.tf_tree.joints) {
     geometry_msgs_msg_dds__TransformStamped_ transform{};
@@ -190,6 +217,7 @@ void Ros2Bridge::start() {
     threads_.emplace_back(
         [this] { run_every(settings_.images_rate_hz, &Ros2Bridge::publish_images); });
   }
+  if (dds_->look_at != 0) threads_.emplace_back([this] { serve_commands(); });
 }
 
 void Ros2Bridge::stop() {
@@ -198,6 +226,7 @@ void Ros2Bridge::stop() {
     stopping_ = true;
   }
   wake_.notify_all();
+  if (dds_->stop_guard != 0) dds_set_guardcondition(dds_->stop_guard, true);
   for (std::thread& thread : threads_) thread.join();
   threads_.clear();
 }
@@ -209,6 +238,8 @@ BridgeCounts Ros2Bridge::counts() const {
   counts.tf = tf_sent_.load();
   counts.images = images_sent_.load();
   counts.camera_infos = camera_infos_sent_.load();
+  counts.commands_received = commands_received_.load();
+  counts.commands_refused = commands_refused_.load();
   counts.write_errors = write_errors_.load();
   return counts;
 }
@@ -230,12 +261,12 @@ void Ros2Bridge::run_every(double rate_hz, void (Ros2Bridge::*publish)()) {
   (this->*publish)();  // What the run ended with.
 }
 
-bool Ros2Bridge::write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>& sent) {
+bool Ros2Bridge::write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>* sent) {
   if (dds_write(writer, message) != DDS_RETCODE_OK) {
     write_errors_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  sent.fetch_add(1, std::memory_order_relaxed);
+  if (sent != nullptr) sent->fetch_add(1, std::memory_order_relaxed);
   return true;
 }
 
@@ -254,10 +285,10 @@ void Ros2Bridge::publish_joint_states() {
   message.position = sequence(sample_.position_rad);
   message.velocity = sequence(sample_.velocity_rad_s);
   message.effort = sequence(sample_.effort_nm);
-  write(dds_->joint_states, &message, joint_states_sent_);
+  write(dds_->joint_states, &message, &joint_states_sent_);
   if (dds_->clock != 0) {
     const rosgraph_msgs_msg_dds__Clock_ clock{{stamp.sec, stamp.nanosec}};
-    write(dds_->clock, &clock, clock_sent_);
+    write(dds_->clock, &clock, &clock_sent_);
   }
   if (dds_->tf != 0) publish_tf(sample_.stamp_ns);
 }
@@ -273,7 +304,7 @@ void Ros2Bridge::publish_tf(std::int64_t stamp_ns) {
   }
   const auto n = static_cast<std::uint32_t>(dds_->joint_transforms.size());
   const tf2_msgs_msg_dds__TFMessage_ message{{n, n, dds_->joint_transforms.data(), false}};
-  write(dds_->tf, &message, tf_sent_);
+  write(dds_->tf, &message, &tf_sent_);
 }
 
 void Ros2Bridge::publish_tf_static() {
@@ -290,7 +321,7 @@ void Ros2Bridge::publish_tf_static() {
   }
   const auto n = static_cast<std::uint32_t>(transforms.size());
   const tf2_msgs_msg_dds__TFMessage_ message{{n, n, transforms.data(), false}};
-  write(dds_->tf_static, &message, tf_sent_);
+  write(dds_->tf_static, &message, &tf_sent_);
 }
 
 void Ros2Bridge::publish_images() {
@@ -314,10 +345,63 @@ void Ros2Bridge::publish_image(std::size_t eye, const hal::Image& image) {
   // Borrowed: the writer serializes before dds_write returns.
   message.data =
       dds_sequence_uint8{size, size, const_cast<std::uint8_t*>(image.pixels.data()), false};
-  if (!write(dds_->images[eye], &message, images_sent_)) return;
+  if (!write(dds_->images[eye], &message, &images_sent_)) return;
   sensor_msgs_msg_dds__CameraInfo_& info = dds_->camera_info[eye];
   info.header.stamp = message.header.stamp;
-  write(dds_->camera_infos[eye], &info, camera_infos_sent_);
+  write(dds_->camera_infos[eye], &info, &camera_infos_sent_);
+}
+
+void Ros2Bridge::serve_commands() {
+  constexpr int kBatch = 16;
+  for (;;) {
+    {
+      const std::lock_guard lock(mutex_);
+      if (stopping_) return;
+    }
+    // Woken by a command or by stop(); the timeout only bounds a missed wake-up.
+    dds_waitset_wait(dds_->waitset, nullptr, 0, DDS_MSECS(500));
+    void* samples[kBatch] = {};
+    dds_sample_info_t infos[kBatch];
+    int n = 0;
+    while ((n = dds_take(dds_->look_at, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (infos[i].valid_data) handle_look_at(samples[i]);
+      }
+      dds_return_loan(dds_->look_at, samples, n);
+    }
+  }
+}
+
+void Ros2Bridge::handle_look_at(const void* point_stamped) {
+  commands_received_.fetch_add(1, std::memory_order_relaxed);
+  const auto& message = *static_cast<const geometry_msgs_msg_dds__PointStamped_*>(point_stamped);
+  const std::string frame = message.header.frame_id != nullptr ? message.header.frame_id : "";
+  const Eigen::Vector3d p_F_m(message.point.x, message.point.y, message.point.z);
+  if (frame.empty()) {
+    refuse(
+        "/cambio/look_at: header.frame_id is empty; name the tf frame the point is in "
+        "(e.g. base)");
+    return;
+  }
+  if (!sources_.joint_states(command_sample_)) {
+    refuse("/cambio/look_at: no joint state yet to place frame '" + frame + "'");
+    return;
+  }
+  const std::optional<Eigen::Isometry3d> X_BF =
+      pose_in_base(sources_.tf_tree, frame, command_sample_.position_rad);
+  if (!X_BF) {
+    refuse("/cambio/look_at: frame '" + frame + "' is not in this robot's tf tree");
+    return;
+  }
+  const std::string refusal = sources_.look_at(*X_BF * p_F_m);
+  if (!refusal.empty()) refuse("/cambio/look_at: " + refusal);
+}
+
+void Ros2Bridge::refuse(const std::string& reason) {
+  commands_refused_.fetch_add(1, std::memory_order_relaxed);
+  std::cerr << "cambio: ROS 2 command refused: " << reason << "\n";
+  const std_msgs_msg_dds__String_ message{const_cast<char*>(reason.c_str())};
+  write(dds_->refusals, &message, nullptr);  // Counted as refused above.
 }
 
 }  // namespace cambio::ros2

@@ -22,6 +22,30 @@ TfTree make_tf_tree(const hal::HardwareInfo& hardware,
   return tree;
 }
 
+std::optional<Eigen::Isometry3d> pose_in_base(const TfTree& tree, std::string_view frame,
+                                              std::span<const double> positions) {
+  Eigen::Isometry3d X_BF = Eigen::Isometry3d::Identity();
+  // Each step climbs one parent; more steps than frames would be a cycle.
+  for (std::size_t steps = 0; steps <= tree.joints.size() + tree.fixed.size(); ++steps) {
+    if (frame == "base") return X_BF;
+    const auto joint = std::find_if(tree.joints.begin(), tree.joints.end(),
+                                    [&](const TfJoint& j) { return j.child_frame == frame; });
+    if (joint != tree.joints.end()) {
+      if (joint->position_index >= positions.size()) return std::nullopt;
+      X_BF =
+          joint->X_PJ * Eigen::AngleAxisd(positions[joint->position_index], joint->axis_J) * X_BF;
+      frame = joint->parent_frame;
+      continue;
+    }
+    const auto fixed = std::find_if(tree.fixed.begin(), tree.fixed.end(),
+                                    [&](const TfFixed& f) { return f.child_frame == frame; });
+    if (fixed == tree.fixed.end()) return std::nullopt;
+    X_BF = fixed->X_PC * X_BF;
+    frame = fixed->parent_frame;
+  }
+  return std::nullopt;
+}
+
 FrameTransform to_frame_transform(const Eigen::Isometry3d& X) {
   const Eigen::Quaterniond q(X.rotation());
   const Eigen::Vector3d p = X.translation();

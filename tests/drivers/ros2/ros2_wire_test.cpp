@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <map>
 #include <numeric>
@@ -17,10 +18,12 @@
 #include <vector>
 
 #include "../../apps/run_cambio.hpp"
+#include "geometry_msgs/msg/PointStamped.h"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
 #include "sensor_msgs/msg/Image.h"
 #include "sensor_msgs/msg/JointState.h"
+#include "std_msgs/msg/String.h"
 #include "tf2_msgs/msg/TFMessage.h"
 
 // A second process on the DDS domain, as a ROS 2 node would be: it discovers what `cambio run`
@@ -110,6 +113,7 @@ Eigen::Isometry3d pose_in(const ReceivedTf& tf, const std::string& root, std::st
   }
   return X;
 }
+
 // The peer's side of the domain: readers for /joint_states and /clock, and DDS's built-in
 // topic of publications (what ROS 2's `ros2 topic list -t` shows).
 class Peer {
@@ -133,8 +137,18 @@ class Peer {
     tf_reader_ = dds_create_reader(participant_, tf_topic, qos, nullptr);
     dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     tf_static_reader_ = dds_create_reader(participant_, tf_static_topic, qos, nullptr);
-    // Sensor data as ROS 2 sends it: best effort.
     dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    look_at_writer_ =
+        dds_create_writer(participant_,
+                          dds_create_topic(participant_, &geometry_msgs_msg_dds__PointStamped__desc,
+                                           "rt/cambio/look_at", nullptr, nullptr),
+                          qos, nullptr);
+    refusal_reader_ =
+        dds_create_reader(participant_,
+                          dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
+                                           "rt/cambio/refusals", nullptr, nullptr),
+                          qos, nullptr);
+    // Sensor data as ROS 2 sends it: best effort.
     dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
     image_reader_ =
         dds_create_reader(participant_,
@@ -235,6 +249,13 @@ class Peer {
       }
       dds_return_loan(camera_info_reader_, samples, n);
     }
+    while ((n = dds_take(refusal_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        refusals.emplace_back(static_cast<const std_msgs_msg_dds__String_*>(samples[i])->data);
+      }
+      dds_return_loan(refusal_reader_, samples, n);
+    }
     while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
@@ -257,6 +278,15 @@ class Peer {
   std::vector<ReceivedTf> tf_static;
   std::vector<ReceivedImage> images;
   std::vector<ReceivedCameraInfo> camera_infos;
+  std::vector<std::string> refusals;
+
+  /// Sends a look-at target on /cambio/look_at, as a ROS 2 node's PointStamped.
+  void look_at(const char* frame, double x, double y, double z) {
+    geometry_msgs_msg_dds__PointStamped_ message{};
+    message.header.frame_id = const_cast<char*>(frame);
+    message.point = {x, y, z};
+    EXPECT_EQ(dds_write(look_at_writer_, &message), DDS_RETCODE_OK);
+  }
   std::map<std::string, Publication> publications;
 
  private:
@@ -266,6 +296,8 @@ class Peer {
   dds_entity_t tf_reader_ = 0;
   dds_entity_t tf_static_reader_ = 0;
   dds_entity_t image_reader_ = 0;
+  dds_entity_t look_at_writer_ = 0;
+  dds_entity_t refusal_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
   dds_entity_t publications_ = 0;
 };
@@ -408,6 +440,52 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos
                                              239.5,   0, 0,     0, 1, 0};
   EXPECT_EQ(info.k, k);
   EXPECT_EQ(info.p, projection);
+}
+
+TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReasons) {
+  Peer peer(domain_);
+  // Both eyes start straight ahead; the run has no gaze commands of its own (ROS 2's are its
+  // commands). On the wall clock, so that the peer has time to be heard.
+  const double left_truth_deg = std::atan2(0.08, 0.96) * kDegPerRad;
+  std::filesystem::create_directories(out_);
+  const std::filesystem::path experiment = out_ / "look_at.yaml";
+  {
+    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
+    std::ofstream file(experiment);
+    file << "experiment:\n  name: look_at\n  rig: " << shipped
+         << "rigs/cambio.yaml\n  scene: " << shipped
+         << "scenes/vergence.yaml\n  perception: " << shipped
+         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
+         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
+    ASSERT_TRUE(file.good());
+  }
+  auto run = std::async(std::launch::async, [&] {
+    return testing::run_cambio("run '" + experiment.string() + "' --out '" +
+                               (out_ / "out").string() + "'");
+  });
+  while (run.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+    peer.take();
+    if (peer.joint_states.empty()) continue;  // Not heard from the run yet.
+    peer.look_at("nowhere", 1.0, 0.0, 1.4);
+    peer.look_at("base", std::nan(""), 0.0, 1.4);
+    peer.look_at("base", 1.0, 0.14, 1.40);  // The sphere's centre.
+  }
+  const testing::CommandResult result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  for (int i = 0; i < 25; ++i) {
+    peer.take();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_FALSE(peer.joint_states.empty());
+  EXPECT_NEAR(peer.joint_states.back().position_rad[3] * kDegPerRad, left_truth_deg, 0.3);
+  const auto refused = [&](const std::string& what) {
+    return std::any_of(peer.refusals.begin(), peer.refusals.end(),
+                       [&](const std::string& r) { return r.find(what) != std::string::npos; });
+  };
+  EXPECT_TRUE(refused("frame 'nowhere' is not in this robot's tf tree"));
+  EXPECT_TRUE(refused("is not finite"));
+  EXPECT_FALSE(refused("(1, 0.14, 1.4)")) << "the good target was refused";
+  EXPECT_NE(result.output.find("ROS 2 command refused"), std::string::npos) << "and logged";
 }
 
 }  // namespace

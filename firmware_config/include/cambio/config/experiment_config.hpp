@@ -42,6 +42,9 @@ struct Ros2Config {
   bool clock = true;              ///< /clock on simulated-time (lockstep) runs.
   bool tf = true;                 ///< /tf with each joint state, /tf_static once.
   double images_hz = 15.0;        ///< The stereo pair's images per second of wall time; 0: none.
+  /// Take gaze commands from ROS 2 (/cambio/look_at): the gaze task with no `commands` and no
+  /// `behaviour` (the gaze loop takes one writer).
+  bool commands = false;
 };
 
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.

@@ -48,7 +48,12 @@ struct JointStatesSample {
 /// Fills `sample` (its vectors already sized to the joint count) with the newest state; false
 /// while there is none yet. Called on the bridge's thread: it must read the loops' latest-value
 /// channels, never wait for a loop.
+/// Called from more than one of the bridge's threads: it must keep no scratch state of its own.
 using JointStatesSampler = std::function<bool(JointStatesSample& sample)>;
+
+/// Sends a look-at target (a point in "base", the world frame) to the gaze loop: returns "" when
+/// it was sent, else why not. Called on the bridge's command thread.
+using LookAtHandler = std::function<std::string(const Eigen::Vector3d& p_base_m)>;
 
 /// Where the bridge's data comes from.
 struct BridgeSources {
@@ -60,6 +65,9 @@ struct BridgeSources {
   /// no images.
   hal::TripleBuffer<hal::StereoFrame>* stereo_images = nullptr;
   std::array<hal::CameraInfo, 2> stereo_cameras;
+  /// Subscribes /cambio/look_at (geometry_msgs/PointStamped, in any frame of the tf tree); each
+  /// refusal is published on /cambio/refusals (std_msgs/String) and logged. Null: no commands.
+  LookAtHandler look_at;
 };
 
 /// How much the bridge has sent since start().
@@ -69,6 +77,8 @@ struct BridgeCounts {
   std::uint64_t tf = 0;
   std::uint64_t images = 0;
   std::uint64_t camera_infos = 0;
+  std::uint64_t commands_received = 0;
+  std::uint64_t commands_refused = 0;
   std::uint64_t write_errors = 0;
 };
 
@@ -80,8 +90,13 @@ struct BridgeCounts {
 ///   /clock         rosgraph_msgs/Clock      reliable keep-last 10 (when asked)
 ///   /<camera>/image_raw, /<camera>/camera_info   sensor_msgs/Image, CameraInfo, best-effort
 ///                                                 keep-last 5 (ROS's sensor-data QoS)
-/// Two threads of its own, not real-time, sample the loops' channels at their rates: a loop
-/// never waits for the network. The DDS configuration is Cyclone's own (CYCLONEDDS_URI).
+///   /cambio/refusals  std_msgs/String        reliable keep-last 10 (with commands)
+/// and subscribes, when given a look-at handler:
+///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
+///                                                   is dropped by DDS, never queued)
+/// Threads of its own, not real-time, sample the loops' channels at their rates and wait for
+/// commands: a loop never waits for the network. The DDS configuration is Cyclone's own
+/// (CYCLONEDDS_URI).
 class Ros2Bridge {
  public:
   /// Creates the DDS participant and writers; throws std::runtime_error naming what Cyclone
@@ -108,12 +123,17 @@ class Ros2Bridge {
   void publish_tf_static();
   void publish_images();
   void publish_image(std::size_t eye, const hal::Image& image);
-  bool write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>& sent);
+  void serve_commands();
+  void handle_look_at(const void* point_stamped);
+  void refuse(const std::string& reason);
+  /// Writes `message`; counts it in `sent` (if given) or in the write errors.
+  bool write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>* sent);
 
   BridgeSettings settings_;
   BridgeSources sources_;
   std::array<std::string, 2> optical_frames_;  // The stereo cameras' frame ids.
   JointStatesSample sample_;                   // Preallocated; the joint-state thread's only.
+  JointStatesSample command_sample_;           // Likewise, the command thread's.
   std::int64_t last_published_stamp_ns_ = -1;
   std::unique_ptr<Dds> dds_;
   std::vector<std::thread> threads_;
@@ -126,6 +146,8 @@ class Ros2Bridge {
   std::atomic<std::uint64_t> tf_sent_{0};
   std::atomic<std::uint64_t> images_sent_{0};
   std::atomic<std::uint64_t> camera_infos_sent_{0};
+  std::atomic<std::uint64_t> commands_received_{0};
+  std::atomic<std::uint64_t> commands_refused_{0};
   std::atomic<std::uint64_t> write_errors_{0};
 };
 

@@ -2,7 +2,10 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cambio/hal/hardware_info.hpp"
@@ -37,6 +40,11 @@ struct TfTree {
 /// Builds the tree of `hardware`; `joint_order` is the order of the joint-state samples. Throws
 /// std::invalid_argument for a joint of the hardware that `joint_order` lacks.
 TfTree make_tf_tree(const hal::HardwareInfo& hardware, const std::vector<std::string>& joint_order);
+
+/// The pose of `frame` (a joint's link, a fixed frame, or "base") in "base" with the joints at
+/// `positions` (the joint states' order); nullopt for a frame the tree does not have.
+std::optional<Eigen::Isometry3d> pose_in_base(const TfTree& tree, std::string_view frame,
+                                              std::span<const double> positions);
 
 /// A transform as geometry_msgs/Transform carries it.
 struct FrameTransform {

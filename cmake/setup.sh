@@ -28,6 +28,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo
   cyclonedds-dev cyclonedds-tools rosidl-tools python3-rosidl python3-catkin-pkg python3-empy
+  liburdfdom-tools
   clang-format
 )
 

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "cambio/ros2/ros2_bridge.hpp"
+#include "cambio/ros2/urdf_export.hpp"
 #include "main_job.hpp"
 
 // MainJob's bridge to ROS 2: the joint loops' published states as /joint_states and /tf (and
@@ -69,6 +70,7 @@ void MainJob::build_ros2_bridge() {
   sources.joint_names = joint_order_;
   sources.tf_tree = ros2::make_tf_tree(hardware_, joint_order_);
   sources.joint_states = std::move(sampler);
+  sources.robot_description = ros2::make_urdf(hardware_, experiment_.rig.name);
   if (config.images_hz > 0.0 && hardware_.stereo) {
     sources.stereo_images = &camera_loop_->observed_stereo_frames();
     sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],

@@ -107,6 +107,7 @@ struct Ros2Bridge::Dds {
   dds_entity_t tf_static = 0;
   std::array<dds_entity_t, 2> images{};
   std::array<dds_entity_t, 2> camera_infos{};
+  dds_entity_t robot_description = 0;
   dds_entity_t look_at = 0;   // Reader.
   dds_entity_t refusals = 0;  // Writer.
   dds_entity_t waitset = 0;   // The command thread's: new commands, or stop.
@@ -161,6 +162,11 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
     dds_->tf_static = make_writer(participant, tf2_msgs_msg_dds__TFMessage__desc, "/tf_static",
                                   Qos(DDS_RELIABILITY_RELIABLE, 1, DDS_DURABILITY_TRANSIENT_LOCAL));
   }
+  if (!sources_.robot_description.empty()) {
+    dds_->robot_description =
+        make_writer(participant, std_msgs_msg_dds__String__desc, "/robot_description",
+                    Qos(DDS_RELIABILITY_RELIABLE, 1, DDS_DURABILITY_TRANSIENT_LOCAL));
+  }
   if (settings_.images_rate_hz > 0.0 && sources_.stereo_images != nullptr) {
     const Qos sensor_data(DDS_RELIABILITY_BEST_EFFORT, 5);
     for (std::size_t eye = 0; eye < 2; ++eye) {
@@ -209,6 +215,10 @@ void Ros2Bridge::start() {
   if (started_) return;
   started_ = true;
   if (dds_->tf_static != 0) publish_tf_static();
+  if (dds_->robot_description != 0) {
+    const std_msgs_msg_dds__String_ urdf{sources_.robot_description.data()};
+    write(dds_->robot_description, &urdf, nullptr);
+  }
   if (dds_->joint_states != 0) {
     threads_.emplace_back(
         [this] { run_every(settings_.joint_states_rate_hz, &Ros2Bridge::publish_joint_states); });

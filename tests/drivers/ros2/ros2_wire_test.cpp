@@ -137,6 +137,11 @@ class Peer {
     tf_reader_ = dds_create_reader(participant_, tf_topic, qos, nullptr);
     dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     tf_static_reader_ = dds_create_reader(participant_, tf_static_topic, qos, nullptr);
+    description_reader_ =
+        dds_create_reader(participant_,
+                          dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
+                                           "rt/robot_description", nullptr, nullptr),
+                          qos, nullptr);
     dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
     look_at_writer_ =
         dds_create_writer(participant_,
@@ -249,6 +254,13 @@ class Peer {
       }
       dds_return_loan(camera_info_reader_, samples, n);
     }
+    while ((n = dds_take(description_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        robot_description = static_cast<const std_msgs_msg_dds__String_*>(samples[i])->data;
+      }
+      dds_return_loan(description_reader_, samples, n);
+    }
     while ((n = dds_take(refusal_reader_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
@@ -279,6 +291,7 @@ class Peer {
   std::vector<ReceivedImage> images;
   std::vector<ReceivedCameraInfo> camera_infos;
   std::vector<std::string> refusals;
+  std::string robot_description;
 
   /// Sends a look-at target on /cambio/look_at, as a ROS 2 node's PointStamped.
   void look_at(const char* frame, double x, double y, double z) {
@@ -298,6 +311,7 @@ class Peer {
   dds_entity_t image_reader_ = 0;
   dds_entity_t look_at_writer_ = 0;
   dds_entity_t refusal_reader_ = 0;
+  dds_entity_t description_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
   dds_entity_t publications_ = 0;
 };
@@ -388,6 +402,12 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos
   // ROS's optical convention: z forward (the link's x), x right (the link's -y), y down (-z).
   EXPECT_TRUE(optical.X_PC.linear().col(2).isApprox(Eigen::Vector3d::UnitX(), 1e-9));
   EXPECT_TRUE(optical.X_PC.linear().col(0).isApprox(-Eigen::Vector3d::UnitY(), 1e-9));
+  // The robot for RViz: the URDF `cambio export urdf` writes, kept for late joiners.
+  ASSERT_TRUE(peer.publications.contains("rt/robot_description"));
+  EXPECT_EQ(peer.publications.at("rt/robot_description").durability,
+            DDS_DURABILITY_TRANSIENT_LOCAL);
+  EXPECT_EQ(peer.robot_description,
+            testing::run_cambio("export urdf cambio", testing::Capture::kStdout).output);
   ASSERT_FALSE(peer.tf.empty());
   const ReceivedTf& tf = peer.tf.back();
   ASSERT_EQ(tf.size(), 15u);

@@ -68,6 +68,9 @@ struct BridgeSources {
   /// Subscribes /cambio/look_at (geometry_msgs/PointStamped, in any frame of the tf tree); each
   /// refusal is published on /cambio/refusals (std_msgs/String) and logged. Null: no commands.
   LookAtHandler look_at;
+  /// The robot as a URDF (make_urdf), published once on /robot_description (std_msgs/String,
+  /// transient-local, as robot_state_publisher does); empty: not published.
+  std::string robot_description;
 };
 
 /// How much the bridge has sent since start().
@@ -90,6 +93,7 @@ struct BridgeCounts {
 ///   /clock         rosgraph_msgs/Clock      reliable keep-last 10 (when asked)
 ///   /<camera>/image_raw, /<camera>/camera_info   sensor_msgs/Image, CameraInfo, best-effort
 ///                                                 keep-last 5 (ROS's sensor-data QoS)
+///   /robot_description  std_msgs/String      reliable transient-local keep-last 1
 ///   /cambio/refusals  std_msgs/String        reliable keep-last 10 (with commands)
 /// and subscribes, when given a look-at handler:
 ///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
@@ -108,7 +112,7 @@ class Ros2Bridge {
   Ros2Bridge(const Ros2Bridge&) = delete;
   Ros2Bridge& operator=(const Ros2Bridge&) = delete;
 
-  /// Publishes /tf_static and starts the publishing threads (once).
+  /// Publishes /tf_static and /robot_description and starts the publishing threads (once).
   void start();
   /// Publishes the newest state one last time and stops the threads; the writers stay, so a
   /// reliable reader still gets what was sent (they linger for it when destroyed).

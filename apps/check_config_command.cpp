@@ -193,21 +193,9 @@ int run_check_config_command(std::span<const std::string> args) {
           "--set loops.joint.rate_hz=500 or --set cameras.left_eye.origin_xyz_m=[0.02,0,0]");
   if (!parser.parse(args)) return kExitOk;
 
-  std::vector<config::ConfigOverride> overrides;
-  std::vector<config::ConfigIssue> override_issues;
-  for (const auto& text : parser.values("set")) {
-    try {
-      overrides.push_back(config::parse_override(text));
-    } catch (const config::ConfigError& error) {
-      override_issues.insert(override_issues.end(), error.issues().begin(), error.issues().end());
-    }
-  }
-  if (!override_issues.empty()) {
-    report_config_error(config::ConfigError(std::move(override_issues)));
-    return kExitBadInput;
-  }
-
-  const auto rig = load_rig_or_report(*parser.positional_value("FILE"), overrides);
+  const auto overrides = parse_overrides_or_report(parser.values("set"));
+  if (!overrides) return kExitBadInput;
+  const auto rig = load_rig_or_report(*parser.positional_value("FILE"), *overrides);
   if (!rig) return kExitBadInput;
   config::RenderDeviceChoice render_device;
   try {

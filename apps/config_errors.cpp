@@ -10,6 +10,24 @@ void report_config_error(const config::ConfigError& error) {
             << " found; nothing was started.\n";
 }
 
+std::optional<std::vector<config::ConfigOverride>> parse_overrides_or_report(
+    const std::vector<std::string>& texts) {
+  std::vector<config::ConfigOverride> overrides;
+  std::vector<config::ConfigIssue> issues;
+  for (const auto& text : texts) {
+    try {
+      overrides.push_back(config::parse_override(text));
+    } catch (const config::ConfigError& error) {
+      issues.insert(issues.end(), error.issues().begin(), error.issues().end());
+    }
+  }
+  if (!issues.empty()) {
+    report_config_error(config::ConfigError(std::move(issues)));
+    return std::nullopt;
+  }
+  return overrides;
+}
+
 std::optional<config::RigConfig> load_rig_or_report(
     const std::string& path, const std::vector<config::ConfigOverride>& overrides) {
   try {

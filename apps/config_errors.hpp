@@ -13,6 +13,11 @@ namespace cambio::app {
 std::optional<config::RigConfig> load_rig_or_report(
     const std::string& path, const std::vector<config::ConfigOverride>& overrides);
 
+/// Parses every `--set KEY.PATH=VALUE`; when any is malformed, prints all their issues (as
+/// report_config_error) and returns nullopt, so the command exits with kExitBadInput.
+std::optional<std::vector<config::ConfigOverride>> parse_overrides_or_report(
+    const std::vector<std::string>& texts);
+
 /// Prints each issue of a ConfigError on its own line to stderr.
 void report_config_error(const config::ConfigError& error);
 

@@ -25,21 +25,10 @@ int run_urdf(std::span<const std::string> args) {
       .repeated_option("set", "KEY.PATH=VALUE",
                        "override a rig key first, e.g. --set joints.neck_pan.max_position_deg=60");
   if (!parser.parse(args)) return kExitOk;
-  std::vector<config::ConfigOverride> overrides;
-  std::vector<config::ConfigIssue> override_issues;
-  for (const auto& text : parser.values("set")) {
-    try {
-      overrides.push_back(config::parse_override(text));
-    } catch (const config::ConfigError& error) {
-      override_issues.insert(override_issues.end(), error.issues().begin(), error.issues().end());
-    }
-  }
-  if (!override_issues.empty()) {
-    report_config_error(config::ConfigError(std::move(override_issues)));
-    return kExitBadInput;
-  }
+  const auto overrides = parse_overrides_or_report(parser.values("set"));
+  if (!overrides) return kExitBadInput;
   const auto rig = load_rig_or_report(
-      config::resolve_config_argument("rigs", *parser.positional_value("RIG")), overrides);
+      config::resolve_config_argument("rigs", *parser.positional_value("RIG")), *overrides);
   if (!rig) return kExitBadInput;
   std::cout << ros2::make_urdf(config::hardware_description(*rig), rig->name);
   std::cout.flush();

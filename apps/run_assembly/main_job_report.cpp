@@ -64,6 +64,7 @@ void MainJob::collect(MainJobResult& result) {
     result.gaze_occlusion_rejections = gaze_loop_->occlusion_rejections();
     result.gaze_anchor_returns = gaze_loop_->anchor_returns();
     result.gaze_reanchors = gaze_loop_->reanchors();
+    result.gaze_false_anchors = gaze_loop_->false_anchors();
     if (script_) {
       result.script_start_ns = script_->start_ns();
       for (const std::int64_t sent_ns : script_->sent_ns()) {

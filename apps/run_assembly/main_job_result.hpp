@@ -72,6 +72,7 @@ struct MainJobResult {
   std::uint64_t gaze_occlusion_rejections = 0;
   std::uint64_t gaze_anchor_returns = 0;
   std::uint64_t gaze_reanchors = 0;
+  std::uint64_t gaze_false_anchors = 0;
   /// The scripted commands' send times (s from the script's start; -1: not sent).
   std::vector<double> command_sent_s;
   std::int64_t script_start_ns = 0;  ///< The script's time 0 on the run's clock.

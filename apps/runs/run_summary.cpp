@@ -54,13 +54,15 @@ Json gaze_json(const MainJobResult& result) {
           {"vergence_corrections", result.gaze_corrections},
           // Measurements not followed, by why: a sudden depth jump awaiting a second reading; a
           // jump while the dominant fovea held still (something in front of the verging eye);
-          // returns to the vergence last verged on when it was measured again; and anchors moved
-          // to a surface at another depth held for GazeLoop::kReanchorAfter_s.
+          // returns to the vergence last verged on when it was measured again; anchors moved
+          // to a surface at another depth held for GazeLoop::kReanchorAfter_s; and anchors
+          // forgotten as false matches (a confirmed jump with neither fovea changed).
           {"vergence_rejected",
            {{"jump_awaiting_confirmation", result.gaze_held_jumps},
             {"occlusion_of_the_verging_eye", result.gaze_occlusion_rejections}}},
           {"vergence_anchor_returns", result.gaze_anchor_returns},
           {"vergence_reanchors", result.gaze_reanchors},
+          {"vergence_false_anchors", result.gaze_false_anchors},
           {"final_action", gaze_action_name(gaze.action)},
           {"final_vergence_rad", gaze.vergence_rad}};
 }

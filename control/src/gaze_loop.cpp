@@ -492,6 +492,7 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const auto& disparity = summary.disparity;
   const double d_px = static_cast<double>(disparity.disparity_px);
   const double confidence = static_cast<double>(disparity.confidence);
+  if (anchored_ && verging_fovea_changed(summary)) verging_view_changed_ = true;
   const double floor = params_.vergence.min_confidence / 3.0;
   if (!disparity.valid || !std::isfinite(d_px) || !(confidence >= floor) ||
       summary.stamp_ns < vergence_blind_until_ns_) {
@@ -532,10 +533,17 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   // (same direction, within a factor of two): an object crossing the line of sight, seen by the
   // SSM a frame or two late, must not drag the eyes off a target they still see.
   if (verged_) {
-    if (anchored_ && std::abs(asked_rad - anchor_rad_) > kVergenceJumpRad &&
-        dominant_fovea_steady(summary)) {
-      // The fixated surface is still where the dominant eye looks, so its depth has not jumped:
-      // the verging eye sees something in front of it (or a false match). Keep the vergence.
+    // The fixated surface is still where the dominant eye looks, so its depth has not jumped.
+    const bool against_anchor = anchored_ && std::abs(asked_rad - anchor_rad_) > kVergenceJumpRad &&
+                                dominant_fovea_steady(summary);
+    // Only the fovea's own match (its finest level, a scan decided on the fovea's window) is
+    // covered by the verging fovea's motion check; wider windows may hold a distractor.
+    const bool foveal_reading = disparity.level == 0 && disparity.scan_window_tier <= 0 &&
+                                confidence >= params_.vergence.min_confidence;
+    if (against_anchor && (verging_view_changed_ || !foveal_reading)) {
+      // Something has come into the verging eye's view: it sees that, in front of the target;
+      // or a reading from wider windows (a distractor there) disputes the anchor. Keep the
+      // vergence.
       ++occlusion_rejections_;
       pending_jump_rad_ = 0.0;
       return;
@@ -551,6 +559,14 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
         return;
       }
       verged_ = false;  // A real change of depth: verge again as from the start.
+      if (against_anchor) {
+        // Neither fovea has changed since the anchor was verged on, yet the same view now
+        // reads another depth, confidently and twice: the anchor was the false match (a
+        // periodic texture's alias seen on the way in). Forget it rather than return to it.
+        anchored_ = false;
+        elsewhere_since_ns_.reset();
+        ++false_anchors_;
+      }
     }
   }
   pending_jump_rad_ = 0.0;
@@ -568,6 +584,7 @@ void GazeLoop::anchor_on(std::int64_t stamp_ns) noexcept {
     // The fixated surface's vergence, followed while it moves smoothly.
     anchor_rad_ = vergence_rad_;
     anchored_ = true;
+    verging_view_changed_ = false;
     elsewhere_since_ns_.reset();
     return;
   }
@@ -578,6 +595,7 @@ void GazeLoop::anchor_on(std::int64_t stamp_ns) noexcept {
     elsewhere_since_ns_ = stamp_ns;
   } else if (static_cast<double>(stamp_ns - *elsewhere_since_ns_) * 1e-9 >= kReanchorAfter_s) {
     anchor_rad_ = vergence_rad_;
+    verging_view_changed_ = false;
     elsewhere_since_ns_.reset();
     ++reanchors_;
     return;
@@ -591,6 +609,12 @@ bool GazeLoop::dominant_fovea_steady(const perception::SsmSummary& summary) cons
   const perception::LevelMotion& fovea = motion.per_level[0];
   return std::hypot(motion.flow_x_px, motion.flow_y_px) < kSteadyFlowPx &&
          fovea.residual_rms < kSteadyResidualGrey;
+}
+
+bool GazeLoop::verging_fovea_changed(const perception::SsmSummary& summary) const noexcept {
+  const perception::MotionResult& motion = summary.motion[static_cast<std::size_t>(verging_)];
+  return !motion.valid || motion.level != 0 ||
+         !(motion.per_level[0].residual_rms < kSteadyResidualGrey);
 }
 
 void GazeLoop::clamp_vergence() noexcept {

@@ -173,6 +173,12 @@ class GazeHarness {
   /// Whether the frames say the dominant fovea's content is unchanged (motion found at the
   /// finest level with a small residual), as when nothing crosses the dominant eye's view.
   void set_steady_fovea(bool steady) { steady_fovea_ = steady; }
+  /// Whether the frames say the verging eye's fovea shows no new content either (its motion
+  /// tracked at the finest level, the previous frame warped onto this one to noise): nothing has
+  /// come in front of it. Off, its motion is not measured, which the loop takes as may-have.
+  void set_steady_verging_fovea(bool steady) { steady_verging_fovea_ = steady; }
+  /// The confidence every frame's disparity is given.
+  void set_confidence(float confidence) { confidence_ = confidence; }
   /// Whether the joint loop holds for the one cycle on which each frame's summary lands.
   void set_hold_at_frames(bool hold) { hold_at_frames_ = hold; }
   const GazeLoop& loop() const { return *loop_; }
@@ -226,7 +232,8 @@ class GazeHarness {
     const Eigen::Vector3d fixated = on_dominant_axis(object_W);
     const Eigen::Vector2d seen = project_px(hal::other(dominant), fixated);
     summary.disparity.valid = true;
-    summary.disparity.confidence = 0.9f;
+    summary.disparity.confidence = confidence_;
+    summary.disparity.level = 0;  // The fovea's own match.
     summary.disparity.disparity_px = static_cast<float>(
         forced_disparity_px.value_or(dominant == hal::Eye::kLeft ? -seen.x() : seen.x()));
     // Motion at the dominant fovea: the object's image displacement since the last frame.
@@ -242,6 +249,13 @@ class GazeHarness {
     motion.flow_x_px = static_cast<float>(now_px.x() - previous_object_px_.x());
     motion.flow_y_px = static_cast<float>(now_px.y() - previous_object_px_.y());
     previous_object_px_ = now_px;
+    if (steady_verging_fovea_) {
+      auto& verging = summary.motion[static_cast<std::size_t>(hal::other(dominant))];
+      verging.valid = have_previous_frame_;
+      verging.level = 0;
+      verging.per_level[0].valid = true;
+      verging.per_level[0].residual_rms = 0.5f;
+    }
     have_previous_frame_ = true;
     summaries_.write(summary);
   }
@@ -268,6 +282,8 @@ class GazeHarness {
   bool have_previous_frame_ = false;
   UpdateHeapUse heap_use_;
   bool steady_fovea_ = false;
+  bool steady_verging_fovea_ = false;
+  float confidence_ = 0.9f;
   bool hold_at_frames_ = false;
 };
 
@@ -407,6 +423,38 @@ TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAncho
   for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4);
   EXPECT_EQ(head.loop().anchor_returns(), 1U);
+}
+
+TEST(GazeLoop, AJumpWhileNeitherFoveaChangedForgetsTheAnchorAsAFalseMatch) {
+  const Eigen::Vector3d& sphere = kSphere;
+  GazeHarness head(eyes_on_sphere());
+  head.set_steady_fovea(true);
+  head.set_steady_verging_fovea(true);
+  head.params().vergence.min_confidence = 0.3;
+  const double verged = verge_on_sphere(head);
+  // Weak readings of another depth (a distractor in the wider windows) do not dispute the
+  // anchor, however many agree.
+  head.set_confidence(0.2f);
+  for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&sphere, 12.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed weak readings";
+  EXPECT_GE(head.loop().occlusion_rejections(), 8U);
+  const std::uint64_t rejected = head.loop().occlusion_rejections();
+  // Verged on the alias of a periodic texture: the same unchanged view now reads 12 px (the
+  // true match) confidently, frame after frame. Nothing came in front of the verging eye, so
+  // this is not an occlusion: the second reading confirms the first and the eye follows.
+  head.set_confidence(0.9f);
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, 12.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "a lone jump moved the eye";
+  for (int i = 0; i < 3 * kCyclesPerFrame; ++i) head.step(&sphere, 12.0);
+  EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
+  EXPECT_EQ(head.loop().occlusion_rejections(), rejected);
+  EXPECT_EQ(head.loop().false_anchors(), 1U);
+  // The old vergence is not returned to when a reading asks for it again.
+  const double followed = head.status().vergence_rad;
+  const double back_px = std::tan(followed - verged) * head.params().vergence.focal_px;
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, -back_px);
+  EXPECT_EQ(head.loop().anchor_returns(), 0U);
+  EXPECT_GT(head.status().vergence_rad, verged + 0.5 * kDeg);
 }
 
 TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {

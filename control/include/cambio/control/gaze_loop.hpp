@@ -118,6 +118,10 @@ class GazeLoop final : public hal::Loop {
   /// Large disparity jumps rejected, once verged, because the dominant eye's fovea still showed
   /// the same surface: something passed between the verging eye and the target.
   std::uint64_t occlusion_rejections() const { return occlusion_rejections_; }
+  /// Anchors forgotten because a confident jump was confirmed while neither eye's fovea had
+  /// changed since the anchor was last verged on: nothing can have come in front of the verging
+  /// eye, so the anchor was a false match (a periodic texture's alias).
+  std::uint64_t false_anchors() const { return false_anchors_; }
   /// Returns to the anchored vergence (the last one verged on the current target) when a
   /// measurement asked for it again after the verging eye had been drawn off.
   std::uint64_t anchor_returns() const { return anchor_returns_; }
@@ -172,6 +176,10 @@ class GazeLoop final : public hal::Loop {
   /// it is near, or once the eye has stayed there kReanchorAfter_s.
   void anchor_on(std::int64_t stamp_ns) noexcept;
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
+  /// Whether the verging eye's fovea may show new content since the previous frame: its motion
+  /// not tracked to the finest level, or the previous frame, moved, not matching it. Its flow is
+  /// not asked to be small, since the vergence steps themselves turn that eye.
+  bool verging_fovea_changed(const perception::SsmSummary& summary) const noexcept;
   bool resolve(const GazeTarget& target, Eigen::Vector4d& target_W) const noexcept;
   /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
   /// not the head's or a position that is not finite.
@@ -257,9 +265,13 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t occlusion_rejections_ = 0;
   std::uint64_t anchor_returns_ = 0;
   std::uint64_t reanchors_ = 0;
+  std::uint64_t false_anchors_ = 0;
   // The vergence last verged on the current target (since the last command or saccade).
   bool anchored_ = false;
   double anchor_rad_ = 0.0;
+  // Whether the verging eye's fovea has shown new content since the anchor was last verged on:
+  // only then can something have come in front of it.
+  bool verging_view_changed_ = false;
   // Since when (the measurement's stamp) the eye has been verged far from the anchor, and where.
   std::optional<std::int64_t> elsewhere_since_ns_;
   double elsewhere_rad_ = 0.0;

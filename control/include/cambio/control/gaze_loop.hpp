@@ -42,8 +42,11 @@ struct GazeLoopParams {
   /// angular velocity is followed without lag; 0: no lead).
   double pursuit_gain_per_s = 0.0;
   double pursuit_lead = 0.0;
-  /// Time constant of the pursued target's angular velocity filter (s).
-  double pursuit_velocity_filter_s = 0.1;
+  /// Time constant of the pursued target's angular velocity filter (s): about one frame at
+  /// 30 Hz. Positions come from the displacement since a key frame, precise enough that the
+  /// velocity needs little smoothing; a longer filter makes the eye trail a target that sets off
+  /// fast (0.1 s: pursuit on generated scenes 79 -> 75 of 100, median RMS 0.36 -> 0.48 deg).
+  double pursuit_velocity_filter_s = 0.03;
   /// How far each head joint's command may lead its measured position before the loop faults
   /// (CommandTracking), one per hardware.joints entry (rad); empty: unbounded.
   std::vector<double> max_tracking_error_rad;

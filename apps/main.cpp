@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
       // Configuration found before a command's own loading (CAMBIO_CONFIG_DIR, shipped defaults).
       cambio::app::report_config_error(error);
       return cambio::app::kExitBadInput;
+    } catch (const cambio::sim::RenderingOutOfMemory& error) {
+      std::cerr << "cambio " << name << ": out of memory: " << error.what() << "\n";
+      return cambio::app::kExitFailure;
     } catch (const std::bad_alloc&) {
       std::cerr << "cambio " << name << ": out of memory" << cambio::sim::address_space_limit_note()
                 << "\n";

@@ -4,6 +4,7 @@
 
 #include <iostream>
 #include <memory>
+#include <new>
 
 #include "builtin_backends.hpp"
 #include "command.hpp"
@@ -105,6 +106,8 @@ int run_console(const config::ExperimentConfig& experiment, double real_time_fac
   MainJobResult result;
   try {
     result = job->realtime() ? run_console_realtime(run) : run_console_lockstep(run);
+  } catch (const std::bad_alloc&) {
+    throw;  // Said as running out of memory (main), not as a device's fault.
   } catch (const std::exception& error) {
     std::cerr << "cambio console: " << error.what() << "\n";
     return kExitDeviceFault;

@@ -110,7 +110,7 @@ Renderer::Renderer(const World& world)
     // "Offscreen framebuffer is not complete" under a memory limit is the limit.
     const std::string limit_note = address_space_limit_note();
     if (limit_note.empty()) throw;
-    throw MujocoError(error.what() + limit_note);
+    throw RenderingOutOfMemory(error.what() + limit_note);
   } catch (...) {
     mjr_freeContext(context_.get());
     mjv_freeScene(scene_.get());

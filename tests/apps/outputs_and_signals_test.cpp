@@ -153,6 +153,24 @@ TEST(Outputs, AFileSizeLimitIsAFailedWriteNotADeathBySigxfsz) {
   EXPECT_FALSE(fs::exists(dir / "summary.json")) << "no partial set was put in place";
 }
 
+TEST(Outputs, RenderingUnderAnAddressSpaceLimitIsOutOfMemoryNotADeviceFault) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer's shadow memory alone passes any such limit";
+#endif
+  // ulimit -v 300000 (KiB: 307 MB): Mesa's software renderer, which maps about 1 GB, cannot start
+  // although its packages are installed. Memory ran out: not a device's fault (3).
+  const fs::path dir = fresh_directory("address_space");
+  const auto result = run_in_shell(
+      "ulimit -v 300000; \"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
+      "--set experiment.duration_s=0.2 --out '" +
+      dir.string() + "'");
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_TRUE(contains(result.output, "out of memory")) << result.output;
+  EXPECT_TRUE(contains(result.output, "address-space limit (ulimit -v) is 307 MB"))
+      << result.output;
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << "nothing ran";
+}
+
 TEST(Outputs, AFailedWriteToStandardOutputIsAnError) {
   // stderr to the test, stdout to a device that is always full.
   auto result =

@@ -5,9 +5,23 @@
 // thread per core with its stack, JIT-compiled shaders, the framebuffers). Under such a limit EGL,
 // MuJoCo's framebuffer and LLVM fail with messages that say nothing of memory; this says it.
 
+#include <new>
 #include <string>
+#include <utility>
 
 namespace cambio::sim {
+
+/// A rendering failure under an address-space limit: memory ran out, not a device or a package.
+/// A std::bad_alloc, so that it is reported as running out of memory (exit 1), not caught as a
+/// device's failure; what() keeps the renderer's message with the limit's note.
+class RenderingOutOfMemory : public std::bad_alloc {
+ public:
+  explicit RenderingOutOfMemory(std::string message) : message_(std::move(message)) {}
+  const char* what() const noexcept override { return message_.c_str(); }
+
+ private:
+  std::string message_;
+};
 
 /// "" without a limit; else a clause to add to a rendering failure's message, e.g. "; the
 /// process's address-space limit (ulimit -v) is 700 MB, and Mesa's software renderer maps about

@@ -147,9 +147,6 @@ std::string key_frame_file_name(const KeyFrame& frame) {
 
 void stage_trace(OutputDirectory& out, const Trace& trace) {
   out.stage("trace.csv", trace_csv(trace));
-  for (const KeyFrame& frame : trace.key_frames) {
-    out.stage(key_frame_file_name(frame), encode_png(frame.image));
-  }
 }
 
 }  // namespace cambio::app

@@ -24,8 +24,7 @@ std::string trace_csv(const Trace& trace);
 /// The file name a key frame is staged under: key_<time, ms>ms_<camera>.png.
 std::string key_frame_file_name(const KeyFrame& frame);
 
-/// Stages trace.csv and the key frames' PNGs in `out`. Throws OutputError (or ImageFileError)
-/// on any failed write or encoding.
+/// Stages trace.csv in `out`. Throws OutputError on a failed write.
 void stage_trace(OutputDirectory& out, const Trace& trace);
 
 /// The gaze action's name as trace.csv and summary.json write it.

@@ -1,20 +1,30 @@
 #include "image_files.hpp"
 
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 namespace cambio::app {
 
 namespace {
 
-// The image as OpenCV encodes it: grey as it is, without a copy; RGB copied into BGR order.
+// The image as OpenCV encodes it: grey as it is, without a copy; RGB copied into BGR order. The
+// copy is a plain loop, not cv::cvtColor, which runs on TBB's worker threads: results are written
+// at the end of a run, when memory may be short, and a TBB pool whose thread could not start
+// spins forever (seen under an address-space limit) instead of failing.
 cv::Mat bgr_view(const hal::Image& image) {
   const int type = image.channels() == 3 ? CV_8UC3 : CV_8UC1;
   const cv::Mat view(image.height_px, image.width_px, type,
                      const_cast<std::uint8_t*>(image.pixels.data()), image.stride_bytes());
   if (image.channels() != 3) return view;
-  cv::Mat bgr;
-  cv::cvtColor(view, bgr, cv::COLOR_RGB2BGR);
+  cv::Mat bgr(image.height_px, image.width_px, CV_8UC3);
+  for (int row = 0; row < image.height_px; ++row) {
+    const std::uint8_t* rgb_row = view.ptr<std::uint8_t>(row);
+    std::uint8_t* bgr_row = bgr.ptr<std::uint8_t>(row);
+    for (int x = 0; x < 3 * image.width_px; x += 3) {
+      bgr_row[x] = rgb_row[x + 2];
+      bgr_row[x + 1] = rgb_row[x + 1];
+      bgr_row[x + 2] = rgb_row[x];
+    }
+  }
   return bgr;
 }
 

@@ -11,12 +11,30 @@ namespace cambio::app {
 
 namespace {
 
-/// Cameras that never delivered a frame have none to write.
-void stage_last_frames(OutputDirectory& out, MainJob& job) {
+/// An image illustrates the results: one that cannot be encoded (memory short at the end of a
+/// run) is a warning, and the results stand. A failed write stays an error, as for every file.
+void stage_image(OutputDirectory& out, const std::string& name, const hal::Image& image) {
+  std::vector<std::uint8_t> png;
+  try {
+    png = encode_png(image);
+  } catch (const std::exception& error) {
+    std::cerr << "cambio run: warning: image not written: " << name << ": " << error.what() << "\n";
+    return;
+  }
+  out.stage(name, png);
+}
+
+/// The key frames and each camera's last frame; cameras that never delivered a frame have none.
+void stage_images(OutputDirectory& out, MainJob& job) {
+  if (const Trace* trace = job.trace()) {
+    for (const KeyFrame& frame : trace->key_frames) {
+      stage_image(out, key_frame_file_name(frame), frame.image);
+    }
+  }
   const auto frames = job.last_frames();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (frames[i].sequence == 0) continue;
-    out.stage(job.cameras()[i].name + ".png", encode_png(frames[i]));
+    stage_image(out, job.cameras()[i].name + ".png", frames[i]);
   }
 }
 
@@ -44,9 +62,13 @@ PlotInputs plot_inputs(const config::ExperimentConfig& experiment, const MainJob
 void write_run_results(OutputDirectory& out, const config::ExperimentConfig& experiment,
                        MainJob& job, const MainJobResult& result, const RunOutcome& outcome,
                        const std::optional<RunEvaluation>& evaluation) {
-  stage_last_frames(out, job);
+  // The results first (the trace, the summary), then what illustrates them (images, plots), which
+  // may fail without taking the results with them.
+  if (const Trace* trace = job.trace()) stage_trace(out, *trace);
+  out.stage("summary.json",
+            json_text(summary_json(experiment, result, outcome, job.trace(), evaluation)));
+  stage_images(out, job);
   if (const Trace* trace = job.trace()) {
-    stage_trace(out, *trace);
     const PlotInputs plots = plot_inputs(experiment, job, result, evaluation);
     if (stop_hurried()) {
       std::cerr << "cambio run: plots skipped: a second signal asked to hurry\n";
@@ -57,8 +79,6 @@ void write_run_results(OutputDirectory& out, const config::ExperimentConfig& exp
       }
     }
   }
-  out.stage("summary.json",
-            json_text(summary_json(experiment, result, outcome, job.trace(), evaluation)));
   out.commit();
   std::cerr << "cambio run: wrote " << out.path().string() << " (" << out.files().size()
             << " files)\n";

@@ -40,6 +40,28 @@ std::string refusal(const std::vector<std::uint8_t>& bytes) {
   return "accepted";
 }
 
+TEST(ImageFilesTest, AnRgbImageIsEncodedAsPngWithItsChannelsInPlace) {
+  // Every pixel different in each channel; OpenCV decodes PNG to BGR.
+  hal::Image image(7, 5, hal::PixelFormat::kRgb8);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    image.pixels[i] = static_cast<std::uint8_t>(i * 7 % 251);
+  }
+  const std::vector<std::uint8_t> png = encode_png(image);
+  const cv::Mat decoded = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(decoded.type(), CV_8UC3);
+  ASSERT_EQ(decoded.cols, 7);
+  ASSERT_EQ(decoded.rows, 5);
+  for (int y = 0; y < 5; ++y) {
+    for (int x = 0; x < 7; ++x) {
+      const cv::Vec3b bgr = decoded.at<cv::Vec3b>(y, x);
+      const std::uint8_t* rgb = image.row(y) + 3 * x;
+      EXPECT_EQ(bgr[0], rgb[2]) << x << "," << y;
+      EXPECT_EQ(bgr[1], rgb[1]) << x << "," << y;
+      EXPECT_EQ(bgr[2], rgb[0]) << x << "," << y;
+    }
+  }
+}
+
 TEST(ImageFilesTest, HeadersGiveTheSizeOfEveryContainerRead) {
   const cv::Mat grey = random_image(17, 12, CV_8U);
   const cv::Mat colour = random_image(7, 9, CV_8UC3);

@@ -1,5 +1,6 @@
 // `cambio`: the command-line front end. Dispatches to one subcommand per file.
 #include <unistd.h>
+#include <array>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -34,7 +35,8 @@ void print_usage(std::ostream& out) {
          "  3    a device fault (drive or bus) stopped the run\n"
          "  130  stopped by SIGINT (Ctrl-C); 143 by SIGTERM or SIGHUP\n"
          "  where several apply: a signal over a device fault over a failed goal\n"
-         "  out of memory is said as such (under an address-space limit, with the limit)\n";
+         "  out of memory is said as such (exit 1; under an address-space limit, with the limit,\n"
+         "  a crash inside a library included)\n";
 }
 
 /// Standard output is where --json and check-config answer: a failed write (a full disk, a
@@ -49,29 +51,50 @@ int check_standard_output(const std::string& command, int status) {
   return status == cambio::app::kExitOk ? cambio::app::kExitBadInput : status;
 }
 
-// A library that aborts (LLVM inside Mesa's llvmpipe: "Unable to allocate section memory") under
-// an address-space limit says nothing of memory; the note, made before anything can fail, is
-// written from the handler with write(2) alone (async-signal-safe), then the abort goes on.
-std::string g_abort_note;
+// Under an address-space limit (ulimit -v) Mesa's llvmpipe, LLVM and GLib do not all check their
+// allocations: at the same limit a run may abort ("Unable to allocate section memory"), trap
+// (GLib creating a thread) or segfault inside the driver, from one run to the next. Such a crash
+// is memory running out and is said as such, with exit 1 like every other out-of-memory; it can
+// only come from a library (our own code under the sanitizers is checked without limits). The
+// messages are made before anything can fail and written from the handler with write(2) and
+// _exit(2) alone (async-signal-safe). Without a limit a crash stays a crash.
+struct CrashUnderALimit {
+  int signal_number;
+  const char* name;
+  std::string message;
+};
+std::array<CrashUnderALimit, 4> g_crashes_under_a_limit{{{SIGABRT, "SIGABRT", ""},
+                                                         {SIGSEGV, "SIGSEGV", ""},
+                                                         {SIGBUS, "SIGBUS", ""},
+                                                         {SIGTRAP, "SIGTRAP", ""}}};
 
-extern "C" void say_abort_under_a_memory_limit(int signal_number) {
-  [[maybe_unused]] const ssize_t ignored =
-      ::write(STDERR_FILENO, g_abort_note.data(), g_abort_note.size());
-  std::signal(signal_number, SIG_DFL);
-  std::raise(signal_number);
+extern "C" void say_crash_under_a_memory_limit(int signal_number) {
+  for (const CrashUnderALimit& crash : g_crashes_under_a_limit) {
+    if (crash.signal_number != signal_number) continue;
+    [[maybe_unused]] const ssize_t ignored =
+        ::write(STDERR_FILENO, crash.message.data(), crash.message.size());
+  }
+  ::_exit(cambio::app::kExitFailure);
 }
 
-void install_abort_note() {
+void install_crash_note_under_a_memory_limit() {
   const std::string note = cambio::sim::address_space_limit_note();
   if (note.empty()) return;
-  g_abort_note = "cambio: aborted inside a library" + note + "\n";
-  std::signal(SIGABRT, say_abort_under_a_memory_limit);
+  for (CrashUnderALimit& crash : g_crashes_under_a_limit) {
+    crash.message = std::string("cambio: out of memory: ") + crash.name +
+                    " inside a library (Mesa, LLVM or GLib)" + note + "\n";
+    struct sigaction action {};
+    action.sa_handler = say_crash_under_a_memory_limit;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;
+    sigaction(crash.signal_number, &action, nullptr);
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  install_abort_note();
+  install_crash_note_under_a_memory_limit();
   // A reader that went away (`cambio ... | head`) is a failed write, checked like a full disk
   // (exit 2 with the reason), not a silent death by SIGPIPE that skips a console's clean stop.
   std::signal(SIGPIPE, SIG_IGN);
@@ -103,7 +126,7 @@ int main(int argc, char** argv) {
       // Configuration found before a command's own loading (CAMBIO_CONFIG_DIR, shipped defaults).
       cambio::app::report_config_error(error);
       return cambio::app::kExitBadInput;
-    } catch (const cambio::sim::RenderingOutOfMemory& error) {
+    } catch (const cambio::sim::OutOfMemory& error) {
       std::cerr << "cambio " << name << ": out of memory: " << error.what() << "\n";
       return cambio::app::kExitFailure;
     } catch (const std::bad_alloc&) {
@@ -111,7 +134,10 @@ int main(int argc, char** argv) {
                 << "\n";
       return cambio::app::kExitFailure;
     } catch (const std::exception& error) {
-      std::cerr << "cambio " << name << ": error: " << error.what() << "\n";
+      // Under an address-space limit a library's failure (a thread that cannot start) is most
+      // likely memory running out: the limit is named.
+      std::cerr << "cambio " << name << ": error: " << error.what()
+                << cambio::sim::address_space_limit_note() << "\n";
       return cambio::app::kExitFailure;
     }
   }

@@ -117,7 +117,7 @@ OpenContext open_surfaceless(const std::string& why) {
     message += failed.what();
     // Under an address-space limit the packages are there and memory is what is missing.
     const std::string limit_note = address_space_limit_note();
-    if (!limit_note.empty()) throw RenderingOutOfMemory(message + limit_note);
+    if (!limit_note.empty()) throw OutOfMemory(message + limit_note);
     message += "; the sim needs EGL with Mesa's surfaceless platform (";
     message += kMesaPackages;
     message += ")";

@@ -2,10 +2,14 @@
 
 #include <array>
 #include <atomic>
+#include <cctype>
 #include <cstring>
 #include <mutex>
+#include <string_view>
 
 #include <mujoco/mujoco.h>
+
+#include "cambio/sim/address_space_limit.hpp"
 
 namespace cambio::sim {
 
@@ -17,8 +21,22 @@ std::atomic<std::uint64_t> warning_count{0};
 std::atomic<std::uint64_t> warning_sequence{0};
 std::array<char, 256> warning_text{};
 
+/// MuJoCo words every failed allocation "could not allocate ..." (mjData, the model, textures,
+/// framebuffers): memory ran out, whatever object it was for.
+bool is_allocation_failure(std::string_view message) {
+  constexpr std::string_view kPrefix = "could not allocate";
+  if (message.size() < kPrefix.size()) return false;
+  for (std::size_t i = 0; i < kPrefix.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(message[i])) != kPrefix[i]) return false;
+  }
+  return true;
+}
+
 void on_error(const char* message) {
-  throw MujocoError(std::string("MuJoCo: ") + (message != nullptr ? message : "unknown error"));
+  const std::string text = message != nullptr ? message : "unknown error";
+  if (is_allocation_failure(text))
+    throw OutOfMemory("MuJoCo: " + text + address_space_limit_note());
+  throw MujocoError("MuJoCo: " + text);
 }
 
 void on_warning(const char* message) {

@@ -63,6 +63,12 @@ void narrow_frustum(mjvGLCamera& camera, const ImageWindow& window) {
   camera.frustum_center = full_left + pixel * (static_cast<float>(window.x0_px) + 0.5F * span_x);
 }
 
+std::unique_ptr<RenderStallWatchdog> armed_watchdog(const char* step) {
+  std::unique_ptr<RenderStallWatchdog> watchdog = RenderStallWatchdog::under_address_space_limit();
+  if (watchdog) watchdog->arm(step);
+  return watchdog;
+}
+
 }  // namespace
 
 Renderer::Lease::Lease(Renderer& renderer, Mode mode) noexcept : renderer_(renderer) {
@@ -79,6 +85,7 @@ Renderer::Lease::~Lease() {
 
 Renderer::Renderer(const World& world)
     : world_(world),
+      watchdog_(armed_watchdog("starting the renderer")),
       egl_(config::choose_render_device(world.rig().sim.render_device, world.rig().source_file)),
       scene_(std::make_unique<mjvScene>()),
       option_(std::make_unique<mjvOption>()),
@@ -110,7 +117,7 @@ Renderer::Renderer(const World& world)
     // "Offscreen framebuffer is not complete" under a memory limit is the limit.
     const std::string limit_note = address_space_limit_note();
     if (limit_note.empty()) throw;
-    throw RenderingOutOfMemory(error.what() + limit_note);
+    throw OutOfMemory(error.what() + limit_note);
   } catch (...) {
     mjr_freeContext(context_.get());
     mjv_freeScene(scene_.get());
@@ -118,6 +125,7 @@ Renderer::Renderer(const World& world)
     throw;
   }
   egl_.release();
+  if (watchdog_) watchdog_->disarm();
   near_m_ = model->vis.map.znear * model->stat.extent;
   far_m_ = model->vis.map.zfar * model->stat.extent;
 }
@@ -177,6 +185,7 @@ bool Renderer::render(int camera_id, const ImageWindow& window, const ViewOption
                       std::uint8_t* rgb, float* depth) noexcept {
   const int width_px = window.width_px;
   const int height_px = window.height_px;
+  const RenderStallWatchdog::Scope watched(watchdog_.get(), "rendering");
   try {
     egl_.make_current();
     const mjModel* model = world_.model();
@@ -219,6 +228,7 @@ bool Renderer::render(int camera_id, const ImageWindow& window, const ViewOption
 }
 
 void Renderer::render_raw_reference(int camera_id, int width_px, int height_px, std::uint8_t* rgb) {
+  const RenderStallWatchdog::Scope watched(watchdog_.get(), "rendering");
   egl_.make_current();
   const mjModel* model = world_.model();
   mjvCamera camera;

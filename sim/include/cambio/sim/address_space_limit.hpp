@@ -11,12 +11,13 @@
 
 namespace cambio::sim {
 
-/// A rendering failure under an address-space limit: memory ran out, not a device or a package.
-/// A std::bad_alloc, so that it is reported as running out of memory (exit 1), not caught as a
-/// device's failure; what() keeps the renderer's message with the limit's note.
-class RenderingOutOfMemory : public std::bad_alloc {
+/// Memory ran out inside MuJoCo or the renderer (an allocation MuJoCo reports as failed, or a
+/// rendering failure under an address-space limit): not a device or a package. A std::bad_alloc,
+/// so that it is reported as running out of memory (exit 1), never caught as a device's failure;
+/// what() keeps the library's message with the limit's note.
+class OutOfMemory : public std::bad_alloc {
  public:
-  explicit RenderingOutOfMemory(std::string message) : message_(std::move(message)) {}
+  explicit OutOfMemory(std::string message) : message_(std::move(message)) {}
   const char* what() const noexcept override { return message_.c_str(); }
 
  private:

@@ -14,7 +14,8 @@ class MujocoError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Installs the process-wide MuJoCo handlers (idempotent, thread-safe): errors throw MujocoError
+/// Installs the process-wide MuJoCo handlers (idempotent, thread-safe): errors throw MujocoError,
+/// but a failed allocation ("could not allocate ...") throws OutOfMemory (a std::bad_alloc)
 /// (libmujoco is built with unwind tables, so the exception crosses its C frames); warnings are
 /// counted and the latest one kept, without allocation, so a warning raised inside mj_step stays
 /// real-time safe. Every sim entry point calls this before touching MuJoCo.

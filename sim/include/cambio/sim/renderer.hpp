@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cambio/sim/egl_context.hpp"
+#include "cambio/sim/render_stall_watchdog.hpp"
 #include "cambio/sim/world.hpp"
 #include "cambio/sim/world_snapshot.hpp"
 
@@ -89,7 +90,9 @@ class Renderer {
   /// sim.render_device (see EglContext). Throws config::ConfigError for a bad CAMBIO_EGL_DEVICE,
   /// a chosen device that does not exist or cannot render, or the rig's cameras larger than this
   /// GL implementation draws (GL_MAX_RENDERBUFFER_SIZE, GL_MAX_TEXTURE_SIZE,
-  /// GL_MAX_VIEWPORT_DIMS); std::runtime_error or MujocoError.
+  /// GL_MAX_VIEWPORT_DIMS); std::runtime_error or MujocoError; OutOfMemory for memory. Under an
+  /// address-space limit a RenderStallWatchdog ends the process (exit 1, said as out of memory)
+  /// if starting or rendering makes no progress for 15 s: Mesa's way of running out there.
   explicit Renderer(const World& world);
   ~Renderer();
   Renderer(const Renderer&) = delete;
@@ -135,6 +138,9 @@ class Renderer {
   void set_texture_filter(bool trilinear);
 
   const World& world_;
+  /// Under an address-space limit only (else null); declared before egl_ so that it watches the
+  /// EGL start as well.
+  std::unique_ptr<RenderStallWatchdog> watchdog_;
   EglContext egl_;
   std::atomic_flag busy_;  ///< Set while a Lease holds the renderer.
   mjData_* data_ = nullptr;

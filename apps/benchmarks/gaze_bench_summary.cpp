@@ -143,7 +143,10 @@ void print_gaze_bench_table(const Json& summary) {
               summary["scenes_per_task"].get<int>());
   std::printf("%-14s %6s %8s %10s %10s %10s %10s\n", "task", "runs", "success", "verge_s",
               "final_deg", "p95_deg", "off_s_max");
-  for (const auto& [name, t] : summary["tasks"].items()) {
+  for (const auto& task : summary["tasks"].items()) {
+    // Named, not a structured binding: clang before 16 cannot capture one in a lambda.
+    const std::string& name = task.key();
+    const Json& t = task.value();
     const auto cell = [&](const char* key) {
       return t[key].is_null() ? std::nan("") : t[key].get<double>();
     };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 
 namespace cambio::control {
@@ -10,9 +11,14 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-template <class... Args>
-void say(std::array<char, 160>& message, const char* format, Args... args) noexcept {
-  std::snprintf(message.data(), message.size(), format, args...);
+// A printf-style function (not a template) so that the compiler checks every format against its
+// arguments.
+[[gnu::format(printf, 2, 3)]] void say(std::array<char, 160>& message, const char* format,
+                                       ...) noexcept {
+  std::va_list args;
+  va_start(args, format);
+  std::vsnprintf(message.data(), message.size(), format, args);
+  va_end(args);
 }
 
 }  // namespace

@@ -18,7 +18,6 @@ namespace cambio::virtual_rig::test {
 namespace {
 
 constexpr std::uint32_t kPanNode = 1;
-constexpr double kCountsPerRad = 50.0 * 4096.0 / (2.0 * std::numbers::pi);
 
 config::ConfigOverride pan_homing(const std::string& settings) {
   return {"joints.pan.can.homing", "{" + settings + "}"};

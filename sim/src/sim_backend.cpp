@@ -11,7 +11,7 @@ namespace cambio::sim {
 
 namespace {
 
-std::string quoted(std::string_view name) {
+std::string in_quotes(std::string_view name) {
   return "'" + std::string(name) + "'";
 }
 
@@ -66,7 +66,7 @@ SimBackend::SimBackend(const config::RigConfig& rig, const config::SceneConfig& 
   for (const auto& joint : hardware_.joints) {
     if (world_->find_joint(joint.name) < 0) {
       throw std::invalid_argument("sim: the hardware description names joint " +
-                                  quoted(joint.name) + ", which rig " + quoted(rig_.name) +
+                                  in_quotes(joint.name) + ", which rig " + in_quotes(rig_.name) +
                                   " does not have");
     }
   }
@@ -81,33 +81,33 @@ SimBackend::~SimBackend() = default;
 std::unique_ptr<hal::JointGroup> SimBackend::make_joint_group(std::string_view group_name) {
   const hal::JointGroupInfo* group = hardware_.find_group(group_name);
   if (group == nullptr) {
-    throw std::runtime_error("sim: the rig has no joint group " + quoted(group_name));
+    throw std::runtime_error("sim: the rig has no joint group " + in_quotes(group_name));
   }
   if (followed_groups_.count(group_name) != 0) {
-    throw hal::BackendUnavailable("sim: joint group " + quoted(group_name) +
-                                  " is driven by backend " + quoted(group->backend) +
+    throw hal::BackendUnavailable("sim: joint group " + in_quotes(group_name) +
+                                  " is driven by backend " + in_quotes(group->backend) +
                                   " and followed by the sim; it cannot also be a sim group");
   }
   if (group->backend != kName) {
-    throw hal::BackendUnavailable("sim: joint group " + quoted(group_name) + " names backend " +
-                                  quoted(group->backend) +
+    throw hal::BackendUnavailable("sim: joint group " + in_quotes(group_name) + " names backend " +
+                                  in_quotes(group->backend) +
                                   ", not 'sim' (the sim can only follow it: follow_group)");
   }
   if (group->joints.size() > kMaxJointsPerGroup) {
-    throw std::runtime_error("sim: joint group " + quoted(group_name) + " has " +
+    throw std::runtime_error("sim: joint group " + in_quotes(group_name) + " has " +
                              std::to_string(group->joints.size()) + " joints; at most " +
                              std::to_string(kMaxJointsPerGroup) + " are supported");
   }
   if (made_groups_.count(group_name) != 0) {
-    throw std::runtime_error("sim: joint group " + quoted(group_name) +
+    throw std::runtime_error("sim: joint group " + in_quotes(group_name) +
                              " was already made (one writer per group)");
   }
   std::vector<int> indices;
   for (const auto& joint_name : group->joints) {
     const int index = world_->find_joint(joint_name);
     if (index < 0) {
-      throw std::runtime_error("sim: joint group " + quoted(group_name) + " names unknown joint " +
-                               quoted(joint_name));
+      throw std::runtime_error("sim: joint group " + in_quotes(group_name) +
+                               " names unknown joint " + in_quotes(joint_name));
     }
     indices.push_back(index);
   }
@@ -120,20 +120,20 @@ void SimBackend::follow_group(const hal::JointGroupInfo& group,
                               const hal::JointStateSource& leader) {
   const hal::JointGroupInfo* known = hardware_.find_group(group.name);
   if (known == nullptr) {
-    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + in_quotes(group.name) +
                                   ": the rig has no such group");
   }
   if (made_groups_.count(group.name) != 0 || known->backend == kName) {
-    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + in_quotes(group.name) +
                                   ": the sim drives it itself (backend 'sim'); only a group "
                                   "another backend drives can be followed");
   }
   if (followed_groups_.count(group.name) != 0) {
-    throw hal::BackendUnavailable("sim: joint group " + quoted(group.name) +
+    throw hal::BackendUnavailable("sim: joint group " + in_quotes(group.name) +
                                   " is already followed (one leader per group)");
   }
   if (group.joints.size() > hal::JointStateSource::kMaxJoints) {
-    throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
+    throw hal::BackendUnavailable("sim: cannot follow joint group " + in_quotes(group.name) +
                                   ": more than " +
                                   std::to_string(hal::JointStateSource::kMaxJoints) + " joints");
   }
@@ -141,8 +141,8 @@ void SimBackend::follow_group(const hal::JointGroupInfo& group,
   for (const auto& joint_name : group.joints) {
     const int index = world_->find_joint(joint_name);
     if (index < 0) {
-      throw hal::BackendUnavailable("sim: cannot follow joint group " + quoted(group.name) +
-                                    ": its joint " + quoted(joint_name) +
+      throw hal::BackendUnavailable("sim: cannot follow joint group " + in_quotes(group.name) +
+                                    ": its joint " + in_quotes(joint_name) +
                                     " is not in the sim world");
     }
     indices.push_back(index);
@@ -155,14 +155,14 @@ std::unique_ptr<hal::Camera> SimBackend::make_camera(std::string_view camera_nam
   const hal::CameraInfo* camera = hardware_.find_camera(camera_name);
   const config::CameraConfig* config = rig_.find_camera(std::string(camera_name));
   if (camera == nullptr || config == nullptr) {
-    throw std::runtime_error("sim: the rig has no camera " + quoted(camera_name));
+    throw std::runtime_error("sim: the rig has no camera " + in_quotes(camera_name));
   }
   if (camera->backend != kName) {
-    throw hal::BackendUnavailable("sim: camera " + quoted(camera_name) + " names backend " +
-                                  quoted(camera->backend) + ", not 'sim'");
+    throw hal::BackendUnavailable("sim: camera " + in_quotes(camera_name) + " names backend " +
+                                  in_quotes(camera->backend) + ", not 'sim'");
   }
   if (made_cameras_.count(camera_name) != 0) {
-    throw std::runtime_error("sim: camera " + quoted(camera_name) + " was already made");
+    throw std::runtime_error("sim: camera " + in_quotes(camera_name) + " was already made");
   }
   // Noise streams after the servos' (one per joint).
   const std::uint64_t stream = 0x10000 + camera_streams_++;
@@ -177,18 +177,18 @@ std::unique_ptr<hal::TouchSensor> SimBackend::make_touch_sensor(std::string_view
   for (const auto& sensor : hardware_.touch_sensors) {
     if (sensor.name != sensor_name) continue;
     if (sensor.backend != kName) {
-      throw hal::BackendUnavailable("sim: touch sensor " + quoted(sensor_name) + " names backend " +
-                                    quoted(sensor.backend) + ", not 'sim'");
+      throw hal::BackendUnavailable("sim: touch sensor " + in_quotes(sensor_name) +
+                                    " names backend " + in_quotes(sensor.backend) + ", not 'sim'");
     }
     if (made_touch_sensors_.count(sensor_name) != 0) {
-      throw std::runtime_error("sim: touch sensor " + quoted(sensor_name) + " was already made");
+      throw std::runtime_error("sim: touch sensor " + in_quotes(sensor_name) + " was already made");
     }
     TouchLink& link =
         physics_->add_touch_sensor(sensor.name, world_->end_effector_bodies(sensor.parent));
     made_touch_sensors_.insert(sensor.name);
     return std::make_unique<SimTouchSensor>(link);
   }
-  throw std::runtime_error("sim: the rig has no touch sensor " + quoted(sensor_name));
+  throw std::runtime_error("sim: the rig has no touch sensor " + in_quotes(sensor_name));
 }
 
 void SimBackend::check_moved_by_sim(std::string_view device, const std::string& link) const {
@@ -201,8 +201,9 @@ void SimBackend::check_moved_by_sim(std::string_view device, const std::string& 
     const hal::JointGroupInfo* group = hardware_.find_group(joint->group);
     if (group != nullptr && group->backend != kName && followed_groups_.count(group->name) == 0) {
       throw std::runtime_error(
-          "sim: " + std::string(device) + " hangs from joint " + quoted(joint->name) +
-          " of joint group " + quoted(group->name) + ", which backend " + quoted(group->backend) +
+          "sim: " + std::string(device) + " hangs from joint " + in_quotes(joint->name) +
+          " of joint group " + in_quotes(group->name) + ", which backend " +
+          in_quotes(group->backend) +
           " drives and the sim does not follow, so the sim would never move it (follow the "
           "group: Backend::follow_group)");
     }
@@ -212,12 +213,12 @@ void SimBackend::check_moved_by_sim(std::string_view device, const std::string& 
 
 void SimBackend::configure() {
   for (const auto& camera_name : made_cameras_) {
-    check_moved_by_sim("camera " + quoted(camera_name),
+    check_moved_by_sim("camera " + in_quotes(camera_name),
                        hardware_.find_camera(camera_name)->parent_frame);
   }
   for (const auto& sensor : hardware_.touch_sensors) {
     if (made_touch_sensors_.count(sensor.name) == 0) continue;
-    check_moved_by_sim("touch sensor " + quoted(sensor.name), sensor.parent);
+    check_moved_by_sim("touch sensor " + in_quotes(sensor.name), sensor.parent);
   }
 }
 
@@ -241,7 +242,7 @@ int SimBackend::sim_joint(std::string_view joint_name) const {
   const hal::JointGroupInfo* group =
       joint != nullptr ? hardware_.find_group(joint->group) : nullptr;
   if (group == nullptr || group->backend != kName) {
-    throw std::invalid_argument("sim: joint " + quoted(joint_name) +
+    throw std::invalid_argument("sim: joint " + in_quotes(joint_name) +
                                 " is not in a joint group the sim drives");
   }
   return world_->find_joint(joint_name);

@@ -21,7 +21,7 @@ std::string number(double value) {
   return buffer;
 }
 
-std::string quoted(std::string_view text) {
+std::string in_quotes(std::string_view text) {
   return "\"" + std::string(text) + "\"";
 }
 
@@ -51,7 +51,7 @@ void check_group(const hal::HardwareInfo& hardware, const hal::JointGroupInfo& g
   }
   if (can_rig.find_bus(can_group->bus) == nullptr) {
     problems.push_back({bus_key, "expected one of can_buses (" + bus_names(can_rig) + "), found " +
-                                     quoted(can_group->bus)});
+                                     in_quotes(can_group->bus)});
     return;
   }
   if (mastered) {
@@ -60,7 +60,7 @@ void check_group(const hal::HardwareInfo& hardware, const hal::JointGroupInfo& g
       problems.push_back({bus_key, "expected a bus no other " + std::string(backend) +
                                        " group drives (each group produces its bus's SYNC at its "
                                        "own rate), found " +
-                                       quoted(can_group->bus) + ", already driven by group " +
+                                       in_quotes(can_group->bus) + ", already driven by group " +
                                        master->second});
     }
   }

@@ -15,7 +15,7 @@ namespace cambio::canopen {
 
 namespace {
 
-std::string quoted(std::string_view name) {
+std::string in_quotes(std::string_view name) {
   return "'" + std::string(name) + "'";
 }
 
@@ -107,27 +107,28 @@ SocketCanBackend::~SocketCanBackend() {
 std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_view group_name) {
   const hal::JointGroupInfo* info = hardware_.find_group(group_name);
   if (info == nullptr) {
-    throw std::runtime_error("socketcan: the rig has no joint group " + quoted(group_name));
+    throw std::runtime_error("socketcan: the rig has no joint group " + in_quotes(group_name));
   }
   if (info->backend != kName) {
-    throw hal::BackendUnavailable("socketcan: joint group " + quoted(group_name) +
-                                  " names backend " + quoted(info->backend) + ", not 'socketcan'");
+    throw hal::BackendUnavailable("socketcan: joint group " + in_quotes(group_name) +
+                                  " names backend " + in_quotes(info->backend) +
+                                  ", not 'socketcan'");
   }
   if (groups_.count(group_name) != 0) {
-    throw std::runtime_error("socketcan: joint group " + quoted(group_name) +
+    throw std::runtime_error("socketcan: joint group " + in_quotes(group_name) +
                              " was already made (one writer per group)");
   }
   const CanGroupInfo* can_group = can_rig_.find_group(group_name);
   const CanBusInfo* bus_info = can_group != nullptr ? can_rig_.find_bus(can_group->bus) : nullptr;
   if (bus_info == nullptr) {
-    throw std::runtime_error("socketcan: joint group " + quoted(group_name) + " names CAN bus " +
-                             quoted(can_group != nullptr ? can_group->bus : "") +
+    throw std::runtime_error("socketcan: joint group " + in_quotes(group_name) + " names CAN bus " +
+                             in_quotes(can_group != nullptr ? can_group->bus : "") +
                              ", which the rig's can_buses do not list");
   }
   const auto used = buses_.find(bus_info->name);
   if (used != buses_.end()) {
-    throw std::runtime_error("socketcan: joint groups " + quoted(used->second.group) + " and " +
-                             quoted(group_name) + " share CAN bus " + quoted(bus_info->name) +
+    throw std::runtime_error("socketcan: joint groups " + in_quotes(used->second.group) + " and " +
+                             in_quotes(group_name) + " share CAN bus " + in_quotes(bus_info->name) +
                              "; each CAN group produces its bus's SYNC at its own rate, so one "
                              "group per bus");
   }
@@ -135,8 +136,8 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
   for (const std::string& joint_name : info->joints) {
     const JointDriveInfo* drive = can_rig_.find_drive(joint_name);
     if (drive == nullptr) {
-      throw std::runtime_error("socketcan: joint " + quoted(joint_name) + " of group " +
-                               quoted(group_name) + " has no CAN drive (can.node_id)");
+      throw std::runtime_error("socketcan: joint " + in_quotes(joint_name) + " of group " +
+                               in_quotes(group_name) + " has no CAN drive (can.node_id)");
     }
     drives.push_back(*drive);
   }
@@ -144,8 +145,8 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
 
   Bus bus{*bus_info, opener_(*bus_info), std::string(group_name)};
   if (bus.bus == nullptr) {
-    throw std::runtime_error("socketcan: could not open CAN bus " + quoted(bus_info->name) +
-                             " (interface " + quoted(bus_info->interface) + ")");
+    throw std::runtime_error("socketcan: could not open CAN bus " + in_quotes(bus_info->name) +
+                             " (interface " + in_quotes(bus_info->interface) + ")");
   }
   auto group = std::make_unique<CanJointGroup>(*info, can_group->settings, std::move(drives),
                                                rate_hz, *bus.bus, clock_);
@@ -156,13 +157,13 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
 }
 
 std::unique_ptr<hal::Camera> SocketCanBackend::make_camera(std::string_view camera_name) {
-  throw hal::BackendUnavailable("socketcan: camera " + quoted(camera_name) +
+  throw hal::BackendUnavailable("socketcan: camera " + in_quotes(camera_name) +
                                 ": the socketcan backend drives joints only");
 }
 
 std::unique_ptr<hal::TouchSensor> SocketCanBackend::make_touch_sensor(
     std::string_view sensor_name) {
-  throw hal::BackendUnavailable("socketcan: touch sensor " + quoted(sensor_name) +
+  throw hal::BackendUnavailable("socketcan: touch sensor " + in_quotes(sensor_name) +
                                 ": the socketcan backend drives joints only");
 }
 
@@ -179,8 +180,8 @@ void SocketCanBackend::configure() {
 void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGroupInfo& info) {
   const CanGroupSettings& settings = group.settings();
   const double sdo_timeout_s = settings.sdo_timeout_s;
-  const std::string where = "socketcan: joint group " + quoted(info.name) + " on CAN bus " +
-                            quoted(can_rig_.find_group(info.name)->bus) + " (" +
+  const std::string where = "socketcan: joint group " + in_quotes(info.name) + " on CAN bus " +
+                            in_quotes(can_rig_.find_group(info.name)->bus) + " (" +
                             group.bus().name() + ")";
   BusPump pump(group.bus(), clock_, options_.waiter);
   std::set<int> booted;
@@ -205,7 +206,7 @@ void SocketCanBackend::configure_group(CanJointGroup& group, const hal::JointGro
   for (std::size_t k = 0; k < group.size(); ++k) {
     const int node = group.drive(k).node_id();
     const hal::JointInfo& joint = *hardware_.find_joint(info.joints[k]);
-    const std::string what = "joint " + quoted(joint.name);
+    const std::string what = "joint " + in_quotes(joint.name);
     try {
       // A drive that sent no boot-up must at least answer: its device type says it is CiA 402.
       const std::uint32_t device_type =
@@ -288,7 +289,8 @@ void SocketCanBackend::home_group(CanJointGroup& group, const hal::JointGroupInf
       group.seed_feedback(k, record.feedback, clock_.now_ns());
       group.set_homed(k, std::move(record));
     } catch (const std::exception& error) {
-      throw std::runtime_error("socketcan: joint group " + quoted(info.name) + ": " + error.what());
+      throw std::runtime_error("socketcan: joint group " + in_quotes(info.name) + ": " +
+                               error.what());
     }
   }
 }

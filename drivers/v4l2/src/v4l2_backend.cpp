@@ -17,7 +17,7 @@ struct V4l2Backend::CameraSlot {
 
 namespace {
 
-std::string quoted(std::string_view name) {
+std::string in_quotes(std::string_view name) {
   return "'" + std::string(name) + "'";
 }
 
@@ -61,12 +61,12 @@ V4l2Backend::~V4l2Backend() {
 }
 
 std::unique_ptr<hal::JointGroup> V4l2Backend::make_joint_group(std::string_view group_name) {
-  throw hal::BackendUnavailable("v4l2: joint group " + quoted(group_name) +
+  throw hal::BackendUnavailable("v4l2: joint group " + in_quotes(group_name) +
                                 ": the v4l2 backend makes cameras only");
 }
 
 std::unique_ptr<hal::TouchSensor> V4l2Backend::make_touch_sensor(std::string_view sensor_name) {
-  throw hal::BackendUnavailable("v4l2: touch sensor " + quoted(sensor_name) +
+  throw hal::BackendUnavailable("v4l2: touch sensor " + in_quotes(sensor_name) +
                                 ": the v4l2 backend makes cameras only");
 }
 
@@ -74,17 +74,18 @@ std::unique_ptr<hal::Camera> V4l2Backend::make_camera(std::string_view camera_na
   const hal::CameraInfo* info = hardware_.find_camera(camera_name);
   const V4l2CameraSettings* settings = rig_.find(camera_name);
   if (info == nullptr) {
-    throw std::runtime_error("v4l2: the rig has no camera " + quoted(camera_name));
+    throw std::runtime_error("v4l2: the rig has no camera " + in_quotes(camera_name));
   }
   if (settings == nullptr || settings->device.empty()) {
-    throw std::runtime_error("v4l2: camera " + quoted(camera_name) + " names no device");
+    throw std::runtime_error("v4l2: camera " + in_quotes(camera_name) + " names no device");
   }
   if (cameras_.count(camera_name) != 0) {
-    throw std::runtime_error("v4l2: camera " + quoted(camera_name) + " was already made");
+    throw std::runtime_error("v4l2: camera " + in_quotes(camera_name) + " was already made");
   }
   std::unique_ptr<VideoDevice> device = opener_(settings->device);
   if (device == nullptr) {
-    throw DeviceError("v4l2: camera " + quoted(camera_name) + ": cannot open " + settings->device);
+    throw DeviceError("v4l2: camera " + in_quotes(camera_name) + ": cannot open " +
+                      settings->device);
   }
   auto slot = std::unique_ptr<CameraSlot>(new CameraSlot{
       V4l2Capture(*info, *settings, std::move(device), clock_), nullptr, hal::Eye::kLeft});
@@ -148,7 +149,7 @@ std::vector<std::string> V4l2Backend::statistics() const {
   std::vector<std::string> lines;
   for (const auto& [name, slot] : cameras_) {
     const CaptureCounters& counts = slot->capture.counters();
-    lines.push_back("v4l2: camera " + quoted(name) + ": " +
+    lines.push_back("v4l2: camera " + in_quotes(name) + ": " +
                     std::to_string(counts.delivered.load()) + " frames delivered, " +
                     std::to_string(counts.dropped.load()) + " dropped, " +
                     std::to_string(counts.late.load()) + " late");

@@ -9,7 +9,7 @@ namespace cambio::v4l2 {
 
 namespace {
 
-std::string quoted(std::string_view text) {
+std::string in_quotes(std::string_view text) {
   return "'" + std::string(text) + "'";
 }
 
@@ -34,7 +34,7 @@ std::vector<hal::SettingProblem> check_v4l2_rig(const hal::HardwareInfo& hardwar
         problems.push_back({key + (settings->device.empty() ? "pixel_format" : "device"),
                             "expected no V4L2 settings (device, pixel_format, frame_rate_hz, "
                             "controls) on a camera whose backend is " +
-                                quoted(camera.backend) + "; they are read with backend: v4l2"});
+                                in_quotes(camera.backend) + "; they are read with backend: v4l2"});
       }
       continue;
     }
@@ -48,12 +48,12 @@ std::vector<hal::SettingProblem> check_v4l2_rig(const hal::HardwareInfo& hardwar
       problems.push_back({key + "device",
                           "expected a device node under /dev/ (e.g. "
                           "/dev/video0 or /dev/v4l/by-id/...), found " +
-                              quoted(given.device)});
+                              in_quotes(given.device)});
     } else if (const auto [user, inserted] = device_users.emplace(given.device, camera.name);
                !inserted) {
       problems.push_back({key + "device", "expected a device of its own, found " +
-                                              quoted(given.device) + ", which camera " +
-                                              quoted(user->second) + " already streams from"});
+                                              in_quotes(given.device) + ", which camera " +
+                                              in_quotes(user->second) + " already streams from"});
     }
     if (given.pixel_format.empty()) {
       problems.push_back({key + "pixel_format",
@@ -62,7 +62,7 @@ std::vector<hal::SettingProblem> check_v4l2_rig(const hal::HardwareInfo& hardwar
     } else if (given.pixel_format != "GREY" && given.pixel_format != "YUYV") {
       problems.push_back(
           {key + "pixel_format", "expected GREY or YUYV (the formats this build converts), found " +
-                                     quoted(given.pixel_format)});
+                                     in_quotes(given.pixel_format)});
     } else if (given.pixel_format == "YUYV" && camera.intrinsics.width_px % 2 != 0) {
       problems.push_back({key + "width_px",
                           "expected an even width for YUYV (two pixels share "

@@ -6,7 +6,7 @@ namespace cambio::canopen::eds {
 
 namespace {
 
-std::string quoted(std::string_view text) {
+std::string in_quotes(std::string_view text) {
   return "'" + std::string(text.substr(0, 60)) + (text.size() > 60 ? "...'" : "'");
 }
 
@@ -27,7 +27,7 @@ std::optional<EdsInteger> integer_value(const SectionReader& reader, const IniKe
     reader.issue(key.line, std::string(spelled) +
                                ": expected a number (decimal, 0x hex, or with $NODEID as in "
                                "$NODEID+0x180), found " +
-                               quoted(key.value));
+                               in_quotes(key.value));
     return std::nullopt;
   }
   for (const int node_id : {kMinNodeId, kMaxNodeId}) {
@@ -60,7 +60,7 @@ std::optional<std::uint64_t> SectionReader::number(const IniKey& key, std::strin
   const auto value = parse_unsigned(key.value);
   if (!value || *value > max) {
     issue(key.line, std::string(spelled) + ": expected a number 0.." + std::to_string(max) +
-                        " (decimal or 0x hex), found " + quoted(key.value));
+                        " (decimal or 0x hex), found " + in_quotes(key.value));
     return std::nullopt;
   }
   return value;
@@ -89,7 +89,7 @@ std::optional<EdsEntry> read_entry(const SectionReader& reader, std::uint8_t sub
       entry.access = *access;
     } else {
       reader.issue(key->line, "AccessType: expected ro, wo, rw, rwr, rww or const, found " +
-                                  quoted(key->value));
+                                  in_quotes(key->value));
       complete = false;
     }
   } else {

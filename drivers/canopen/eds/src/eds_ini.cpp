@@ -9,7 +9,7 @@ namespace cambio::canopen::eds {
 namespace {
 
 /// A line as a message quotes it: at most 60 characters.
-std::string quoted(std::string_view text) {
+std::string in_quotes(std::string_view text) {
   constexpr std::size_t kShown = 60;
   return "'" + std::string(text.substr(0, kShown)) + (text.size() > kShown ? "...'" : "'");
 }
@@ -57,7 +57,7 @@ IniDocument read_ini(std::string_view text, const std::string& file,
       const std::size_t close = line.find(']');
       if (close == std::string_view::npos || !trim(line.substr(close + 1)).empty()) {
         issues.push_back(
-            {file, line_number, "expected a section header '[name]', found " + quoted(line)});
+            {file, line_number, "expected a section header '[name]', found " + in_quotes(line)});
         current = kNone;
         current_is_duplicate = true;  // Its keys belong to no section: not reported again.
         continue;
@@ -82,12 +82,12 @@ IniDocument read_ini(std::string_view text, const std::string& file,
     if (equals == std::string_view::npos || trim(line.substr(0, equals)).empty()) {
       issues.push_back(
           {file, line_number,
-           "expected 'key=value', a '[section]' or a ';' comment, found " + quoted(line)});
+           "expected 'key=value', a '[section]' or a ';' comment, found " + in_quotes(line)});
       continue;
     }
     if (current == kNone) {
       if (!current_is_duplicate) {
-        issues.push_back({file, line_number, "key before any [section]: " + quoted(line)});
+        issues.push_back({file, line_number, "key before any [section]: " + in_quotes(line)});
       }
       continue;
     }

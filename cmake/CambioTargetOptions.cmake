@@ -16,6 +16,13 @@ function(cambio_set_target_options target)
                                              -fno-sanitize-recover=undefined)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()
+  get_target_property(type ${target} TYPE)
+  if(CAMBIO_SANITIZE AND type STREQUAL "EXECUTABLE")
+    # AddressSanitizer's metadata makes a position-independent program carry millions of
+    # relocations (3.2 million in `cambio`), applied at every start: 0.24 s of each of the
+    # processes the tests start. A fixed-address program has none.
+    target_link_options(${target} PRIVATE -no-pie)
+  endif()
 endfunction()
 
 # A library of this project: cambio_<name> with the alias cambio::<name>; its public headers are

@@ -8,7 +8,8 @@
 #
 # Environment: CAMBIO_BUILD_DIR (default: build), CAMBIO_CMAKE_ARGS (extra configure arguments,
 # quoted as in a shell, e.g. -DCAMBIO_WARNINGS_AS_ERRORS=ON '-DCMAKE_CXX_FLAGS=-O1 -g'),
-# CAMBIO_JOBS (default: all cores).
+# CAMBIO_JOBS (default: all cores), CAMBIO_EXTRA_PACKAGES (more Debian packages to install with
+# the rest, e.g. the sanitizer and fuzzing stages' clang in .ci/run).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -31,6 +32,10 @@ packages=(
   liburdfdom-tools
   clang-format
 )
+if [ -n "${CAMBIO_EXTRA_PACKAGES:-}" ]; then
+  read -r -a extra_packages <<<"$CAMBIO_EXTRA_PACKAGES"
+  packages+=("${extra_packages[@]}")
+fi
 
 missing=()
 for package in "${packages[@]}"; do

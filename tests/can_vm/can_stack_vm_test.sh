@@ -2,21 +2,158 @@
 # can_stack_vm_test.sh CAMBIO: the CANopen master (`cambio run`, pan-tilt rig on socketcan) against
 # the emulated drives (`cambio virtual-rig`) in two processes talking only through the kernel's
 # CAN stack on vcan0, with can-utils as the independent peer (candump -L records, cansend injects,
-# canplayer replays). Runs inside the QEMU guest (tests/can_vm/run_in_guest.sh), where everything
-# is ~50x slower than on the host: the checks are on correctness and order, never on timing,
-# (candump gets a 32 MiB receive buffer: with the default one it drops frames under emulation)
-# except the issue's bound on fault latching (3 heartbeat periods).
+# canplayer replays).
+#
+# The traffic is made inside the QEMU guest (tests/can_vm/run_in_guest.sh runs this script again
+# with --in-guest) and judged here on the host from what the guest left in the work folder: under
+# the guest's emulated CPU everything is ~50x slower than on the host and Python takes 6 s to
+# start, against 0.2 s for grep or awk. The checks are on correctness and order, never on timing,
+# except the issue's bound on fault latching (3 heartbeat periods), read from candump's kernel
+# time stamps. (candump gets a 32 MiB receive buffer: with the default one it drops frames under
+# emulation.)
 set -uo pipefail
 
+script_dir=$(cd -- "$(dirname -- "${BASH_SOURCE[0]}")" && pwd -P)
+repo=$(cd -- "${script_dir}/../.." && pwd -P)
+
+# ---------------------------------------------------------------------------------------------
+# The guest's part: six phases of traffic, each in ${work}/<phase>/ (candump.log, run.log,
+# rig.log, out/, and `status`, the master's exit status).
+in_guest() {
+  local cambio=$1
+  work=$2
+  local rig_file=${repo}/firmware_config/rigs/pan_tilt.yaml
+  local experiment=${repo}/firmware_config/experiments/pan_tilt_hold.yaml
+  rig_pid='' dump_pid='' master_pid='' phase=''
+  trap '[[ -n ${rig_pid} ]] && kill -CONT "${rig_pid}" 2>/dev/null && kill -INT "${rig_pid}" 2>/dev/null
+        [[ -n ${dump_pid} ]] && kill "${dump_pid}" 2>/dev/null
+        wait 2>/dev/null' EXIT
+
+  local rig_sets=(--set groups.pan_tilt.backend=socketcan --set can_buses.can0.interface=vcan0)
+  # A tiny camera at 5 Hz: the guest renders on an emulated CPU and the camera is not under test.
+  local run_sets=(--set rig.groups.pan_tilt.backend=socketcan --set rig.can_buses.can0.interface=vcan0
+    --set rig.cameras.camera.width_px=64 --set rig.cameras.camera.height_px=48
+    --set rig.cameras.camera.focal_px=55 --set "rig.cameras.camera.principal_point_px=[31.5,23.5]"
+    --set rig.loops.camera.rate_hz=5)
+
+  # start_phase NAME [virtual-rig arguments...]: the emulated drives and a candump -L recorder.
+  start_phase() {
+    local name=$1
+    shift
+    phase=${work}/${name}
+    mkdir -p "${phase}"
+    candump -L -r 33554432 vcan0 >"${phase}/candump.log" &
+    dump_pid=$!
+    "${cambio}" virtual-rig --config "${rig_file}" "${rig_sets[@]}" "$@" >"${phase}/rig.log" 2>&1 &
+    rig_pid=$!
+    # The drives announce themselves with their boot-up (701#00, 702#00).
+    for _ in $(seq 100); do grep -q '702#00$' "${phase}/candump.log" && break; sleep 0.1; done
+  }
+  # stop_dump FILE: candump runs behind under emulation; stop it once it has written everything.
+  stop_dump() {
+    local before=-1 now
+    now=$(stat -c %s "$1")
+    while [[ ${now} != "${before}" ]]; do
+      before=${now}
+      sleep 1
+      now=$(stat -c %s "$1")
+    done
+    kill -INT "${dump_pid}" 2>/dev/null
+    wait "${dump_pid}" 2>/dev/null
+    dump_pid=
+  }
+  # end_phase: the master's exit status kept, the drives stopped, candump stopped once caught up.
+  end_phase() {
+    wait "${master_pid}"
+    echo $? >"${phase}/status"
+    kill -CONT "${rig_pid}" 2>/dev/null
+    kill -INT "${rig_pid}" 2>/dev/null
+    wait "${rig_pid}" 2>/dev/null
+    rig_pid=
+    stop_dump "${phase}/candump.log"
+  }
+  # run_master [cambio run arguments...]: `cambio run` in the background; sets master_pid.
+  run_master() {
+    "${cambio}" run "${experiment}" "${run_sets[@]}" --out "${phase}/out" "$@" \
+      >"${phase}/run.log" 2>&1 &
+    master_pid=$!
+  }
+  wait_enabled() {  # Until the master sends "enable operation" (controlword 0x000F) to node 2.
+    for _ in $(seq 600); do grep -q ' 202#0F00' "${phase}/candump.log" && return 0; sleep 0.1; done
+    return 1
+  }
+
+  # 1. Configure, enable, hold at 1 kHz, disable.
+  start_phase traffic
+  run_master --set experiment.duration_s=10 --can-log "${work}/traffic/master.log"
+  end_phase
+
+  # 2. canplayer replays the start of the master's log.
+  phase=${work}/replay
+  mkdir -p "${phase}"
+  head -n 400 "${work}/traffic/master.log" >"${phase}/part.log"
+  candump -L -r 33554432 vcan0 >"${phase}/candump.log" &
+  dump_pid=$!
+  sleep 0.3
+  canplayer -t -I "${phase}/part.log" vcan0=vcan0
+  stop_dump "${phase}/candump.log"
+
+  # 3. A following-error fault in node 1 while enabled.
+  start_phase following_error --fault following-error,node=1,after_enable_s=0.5
+  run_master --set experiment.duration_s=4
+  end_phase
+
+  # 3b. The same fault with the experiment asking for recovery.
+  start_phase recovery --fault following-error,node=1,after_enable_s=0.5
+  run_master --set experiment.duration_s=4 --set experiment.fault_recovery.after_s=0.3 \
+    --set experiment.fault_recovery.max_recoveries=1
+  end_phase
+
+  # 4. Heartbeat loss: the drives' process freezes; `frozen_s` is when, on the guest's clock
+  # (candump's stamps are on the same clock).
+  start_phase heartbeat_loss
+  run_master --set experiment.duration_s=6
+  if wait_enabled; then
+    sleep 1
+    kill -STOP "${rig_pid}"
+    date +%s.%N >"${phase}/frozen_s"
+  fi
+  end_phase
+
+  # 5. cansend as the peer: an EMCY (counted, reported) and a boot-up (a drive rebooted).
+  start_phase cansend
+  run_master --set experiment.duration_s=6
+  if wait_enabled; then
+    cansend vcan0 081#0073010000000000  # EMCY 0x7300 (sensor), no fault in the statusword
+    sleep 1
+    cansend vcan0 702#00  # Node 2 announces a boot-up: it rebooted and lost its configuration.
+  fi
+  end_phase
+
+  # 6. SIGINT. The log is marked before the signal (`signal_line`): a master that stops quickly
+  # has written its NMT frames by the time a count taken after the kill runs.
+  start_phase sigint
+  run_master --set experiment.duration_s=60
+  if wait_enabled; then
+    sleep 1
+    wc -l <"${phase}/candump.log" >"${phase}/signal_line"
+    kill -INT "${master_pid}"
+  fi
+  end_phase
+}
+
+if [[ ${1:-} == --in-guest ]]; then
+  in_guest "${2:?}" "${3:?}"
+  exit 0
+fi
+
+# ---------------------------------------------------------------------------------------------
+# The host's part: run the guest, then judge what it left.
 cambio=${1:?usage: can_stack_vm_test.sh CAMBIO}
-repo=$(cd -- "$(dirname -- "${BASH_SOURCE[0]}")/../.." && pwd -P)
-# Under the build directory (shared with the host), so a failure leaves its logs to read.
-work=$(mktemp -d -p "${CAMBIO_BUILD_DIR:-/tmp}" can_stack_vm_test.XXXXXX)
-rig_file=${repo}/firmware_config/rigs/pan_tilt.yaml
-experiment=${repo}/firmware_config/experiments/pan_tilt_hold.yaml
+build_dir=${CAMBIO_BUILD_DIR:-${repo}/build}
+# Under the build directory (shared read-write with the guest), so a failure leaves its logs.
+work=$(mktemp -d -p "${build_dir}" can_stack_vm_test.XXXXXX)
 failures=0
-rig_pid=
-dump_pid=
 
 say() { printf 'can_stack_vm_test: %s\n' "$*"; }
 check() {  # check DESCRIPTION COMMAND...
@@ -24,63 +161,21 @@ check() {  # check DESCRIPTION COMMAND...
   shift
   if "$@"; then say "ok: ${what}"; else say "FAILED: ${what}"; failures=$((failures + 1)); fi
 }
-cleanup() {
-  [[ -n ${rig_pid} ]] && kill -CONT "${rig_pid}" 2>/dev/null && kill -INT "${rig_pid}" 2>/dev/null
-  [[ -n ${dump_pid} ]] && kill "${dump_pid}" 2>/dev/null
-  wait 2>/dev/null
-}
-trap cleanup EXIT
-
-rig_sets=(--set groups.pan_tilt.backend=socketcan --set can_buses.can0.interface=vcan0)
-# A tiny camera at 5 Hz: the guest renders on an emulated CPU and the camera is not under test.
-run_sets=(--set rig.groups.pan_tilt.backend=socketcan --set rig.can_buses.can0.interface=vcan0
-  --set rig.cameras.camera.width_px=64 --set rig.cameras.camera.height_px=48
-  --set rig.cameras.camera.focal_px=55 --set "rig.cameras.camera.principal_point_px=[31.5,23.5]"
-  --set rig.loops.camera.rate_hz=5)
-
-# start_phase NAME [virtual-rig arguments...]: the emulated drives and a candump -L recorder.
-start_phase() {
-  local name=$1
-  shift
-  phase=${work}/${name}
-  mkdir -p "${phase}"
-  candump -L -r 33554432 vcan0 >"${phase}/candump.log" &
-  dump_pid=$!
-  "${cambio}" virtual-rig --config "${rig_file}" "${rig_sets[@]}" "$@" >"${phase}/rig.log" 2>&1 &
-  rig_pid=$!
-  # The drives announce themselves with their boot-up (701#00, 702#00).
-  for _ in $(seq 100); do grep -q '702#00$' "${phase}/candump.log" && break; sleep 0.1; done
-}
-# stop_dump FILE: candump runs behind under emulation; stop it once it has written everything.
-stop_dump() {
-  local before=-1 now
-  now=$(stat -c %s "$1")
-  while [[ ${now} != "${before}" ]]; do
-    before=${now}
-    sleep 1
-    now=$(stat -c %s "$1")
+report_failure() {
+  say "$*; logs in ${work}"
+  for f in "${work}"/*/run.log "${work}"/*/rig.log; do
+    [[ -f ${f} ]] && { echo "--- ${f}"; tail -n 15 "${f}"; }
   done
-  kill -INT "${dump_pid}" 2>/dev/null
-  wait "${dump_pid}" 2>/dev/null
-  dump_pid=
+  exit 1
 }
-stop_phase() {
-  kill -CONT "${rig_pid}" 2>/dev/null
-  kill -INT "${rig_pid}" 2>/dev/null
-  wait "${rig_pid}" 2>/dev/null
-  rig_pid=
-  stop_dump "${phase}/candump.log"
-}
-# run_master EXIT_VAR [cambio run arguments...]: `cambio run` in the background; sets master_pid.
-run_master() {
-  "${cambio}" run "${experiment}" "${run_sets[@]}" --out "${phase}/out" "$@" \
-    >"${phase}/run.log" 2>&1 &
-  master_pid=$!
-}
-wait_enabled() {  # Until the master sends "enable operation" (controlword 0x000F) to node 2.
-  for _ in $(seq 600); do grep -q ' 202#0F00' "${phase}/candump.log" && return 0; sleep 0.1; done
-  return 1
-}
+
+CAMBIO_BUILD_DIR=${build_dir} "${script_dir}/run_in_guest.sh" "${script_dir}/can_stack_vm_test.sh" \
+  --in-guest "${cambio}" "${work}"
+guest_status=$?
+[[ ${guest_status} -eq 77 ]] && exit 77  # The guest cannot start here (run_in_guest.sh said why).
+[[ ${guest_status} -eq 0 ]] || report_failure "the guest's part failed (exit ${guest_status})"
+
+status_of() { cat "${work}/$1/status" 2>/dev/null || echo none; }
 # Frames (ID#DATA) of the COB-IDs only a master sends: NMT, SYNC, RPDOs, SDO requests.
 master_frames() {
   awk '{print $3}' "$1" | grep -E '^(000|080|2[0-7][0-9A-F]|3[0-7][0-9A-F]|6[0-7][0-9A-F])#'
@@ -93,11 +188,8 @@ line_of() { grep -n -E "$2" "$1" | head -1 | cut -d: -f1; }
 json_value() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
 # --- 1. Configure, enable, hold at 1 kHz, disable: the traffic seen by candump -------------------
-start_phase traffic
-run_master --set experiment.duration_s=10 --can-log "${work}/traffic/master.log"
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/traffic
+status=$(status_of traffic)
 log=${phase}/candump.log
 check "pan-tilt over vcan0 completes (exit 0; got ${status})" test "${status}" -eq 0
 check "NMT reset communication to node 1 (000#8201)" grep -q ' 000#8201$' "${log}"
@@ -190,24 +282,14 @@ sys.exit(0 if ok else 1)
 PY
 
 # --- 2. canplayer replays the master's log --------------------------------------------------------
-mkdir -p "${work}/replay"
-head -n 400 "${work}/traffic/master.log" >"${work}/replay/part.log"
-candump -L -r 33554432 vcan0 >"${work}/replay/candump.log" &
-dump_pid=$!
-sleep 0.3
-canplayer -t -I "${work}/replay/part.log" vcan0=vcan0
-stop_dump "${work}/replay/candump.log"
 awk '{print $3}' "${work}/replay/part.log" >"${work}/replay/played.txt"
 awk '{print $3}' "${work}/replay/candump.log" >"${work}/replay/seen.txt"
 check "canplayer replays the master's log frame for frame" \
   cmp -s "${work}/replay/played.txt" "${work}/replay/seen.txt"
 
 # --- 3. A following-error fault in node 1 while enabled ----------------------------------------
-start_phase following_error --fault following-error,node=1,after_enable_s=0.5
-run_master --set experiment.duration_s=4
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/following_error
+status=$(status_of following_error)
 log=${phase}/candump.log
 check "a drive fault stops the run with exit 3 (got ${status})" test "${status}" -eq 3
 check "summary.json says device_fault" \
@@ -225,12 +307,8 @@ if [[ -n ${emcy_line} ]]; then
 fi
 
 # --- 3b. The same fault with the experiment asking for recovery: reset, re-enable, no restart ---
-start_phase recovery --fault following-error,node=1,after_enable_s=0.5
-run_master --set experiment.duration_s=4 --set experiment.fault_recovery.after_s=0.3 \
-  --set experiment.fault_recovery.max_recoveries=1
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/recovery
+status=$(status_of recovery)
 log=${phase}/candump.log
 check "with fault_recovery the run recovers and completes (exit 0; got ${status})" \
   test "${status}" -eq 0
@@ -243,16 +321,9 @@ if [[ -n ${emcy_line} ]]; then
 fi
 
 # --- 4. Heartbeat loss: the drives' process freezes -------------------------------------------------
-start_phase heartbeat_loss
-run_master --set experiment.duration_s=6
-if wait_enabled; then
-  sleep 1
-  kill -STOP "${rig_pid}"
-  t_frozen=$(python3 -c 'import time; print(time.time())')
-fi
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/heartbeat_loss
+status=$(status_of heartbeat_loss)
+t_frozen=$(cat "${phase}/frozen_s" 2>/dev/null)
 log=${phase}/candump.log
 check "a lost drive stops the run with exit 3 (got ${status})" test "${status}" -eq 3
 if [[ -n ${t_frozen:-} ]]; then
@@ -263,34 +334,17 @@ if [[ -n ${t_frozen:-} ]]; then
 fi
 
 # --- 5. cansend as the peer: an EMCY (counted, reported) and a boot-up (a drive rebooted) --------
-start_phase cansend
-run_master --set experiment.duration_s=6
-if wait_enabled; then
-  cansend vcan0 081#0073010000000000  # EMCY 0x7300 (sensor), no fault in the statusword
-  sleep 1
-  cansend vcan0 702#00  # Node 2 announces a boot-up: it rebooted and lost its configuration.
-fi
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/cansend
+status=$(status_of cansend)
 check "a rebooted drive (boot-up from cansend) stops the run with exit 3 (got ${status})" \
   test "${status}" -eq 3
 check "the EMCY from cansend is counted in summary.json" \
   test "$(json_value "${phase}/out/summary.json" "d['can_groups']['pan_tilt']['emergencies']")" -ge 1
 
 # --- 6. SIGINT: every drive disabled, nodes left pre-operational ----------------------------------
-start_phase sigint
-run_master --set experiment.duration_s=60
-if wait_enabled; then
-  sleep 1
-  # Mark the log before the signal: a master that stops quickly has written its NMT frames by
-  # the time a count taken after the kill runs (the checks below look from the mark on).
-  signal_line=$(wc -l <"${phase}/candump.log")
-  kill -INT "${master_pid}"
-fi
-wait "${master_pid}"
-status=$?
-stop_phase
+phase=${work}/sigint
+status=$(status_of sigint)
+signal_line=$(cat "${phase}/signal_line" 2>/dev/null)
 log=${phase}/candump.log
 check "SIGINT stops the run with exit 130 (got ${status})" test "${status}" -eq 130
 for node in 1 2; do
@@ -303,10 +357,6 @@ preop_line=$(tail -n +"${signal_line:-1}" "${log}" | grep -n ' 000#800[12]$' | h
 check "no SYNC once the nodes are pre-operational" \
   sh -c "test -n '${preop_line}' && ! tail -n +$(( ${signal_line:-1} + ${preop_line:-0} )) '${log}' | grep -q ' 080#$'"
 
-if [[ ${failures} -ne 0 ]]; then
-  say "${failures} check(s) failed; logs in ${work}"
-  for f in "${work}"/*/run.log "${work}"/*/rig.log; do echo "--- ${f}"; tail -n 15 "${f}"; done
-  exit 1
-fi
+[[ ${failures} -eq 0 ]] || report_failure "${failures} check(s) failed"
 say "all checks passed"
 rm -rf "${work}"

@@ -44,21 +44,43 @@ class Texture {
     return v;
   }
 
- private:
   struct Wave {
     double fx, fy, phase, amplitude;
   };
+  const std::vector<Wave>& waves() const { return waves_; }
+
+ private:
   std::vector<Wave> waves_;
 };
 
 /// An image whose pixel (x, y) is texture(x + dx, y + dy), rounded and clamped to 8 bit.
+/// Each wave is cos(a + b) = cos(a) cos(b) - sin(a) sin(b) with a = 2 pi fx (x + dx) and
+/// b = 2 pi fy (y + dy) + phase: a cosine and a sine per column and per row instead of a cosine
+/// per pixel (48 per pixel made rendering most of the perception tests' time, ~2 s a test).
 inline hal::Image render(const Texture& texture, int width, int height, double dx = 0.0,
                          double dy = 0.0) {
+  const auto w = static_cast<std::size_t>(width);
+  std::vector<double> sum(w * static_cast<std::size_t>(height), 128.0);
+  std::vector<double> cos_x(w), sin_x(w);
+  for (const Texture::Wave& wave : texture.waves()) {
+    for (std::size_t x = 0; x < w; ++x) {
+      const double a = 2.0 * std::numbers::pi * wave.fx * (static_cast<double>(x) + dx);
+      cos_x[x] = wave.amplitude * std::cos(a);
+      sin_x[x] = wave.amplitude * std::sin(a);
+    }
+    for (int y = 0; y < height; ++y) {
+      const double b = 2.0 * std::numbers::pi * wave.fy * (y + dy) + wave.phase;
+      const double cos_y = std::cos(b);
+      const double sin_y = std::sin(b);
+      double* row = sum.data() + static_cast<std::size_t>(y) * w;
+      for (std::size_t x = 0; x < w; ++x) row[x] += cos_x[x] * cos_y - sin_x[x] * sin_y;
+    }
+  }
   hal::Image image(width, height, hal::PixelFormat::kGrey8);
   for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      image.row(y)[x] =
-          static_cast<std::uint8_t>(std::clamp(std::lround(texture(x + dx, y + dy)), 0L, 255L));
+    const double* row = sum.data() + static_cast<std::size_t>(y) * w;
+    for (std::size_t x = 0; x < w; ++x) {
+      image.row(y)[x] = static_cast<std::uint8_t>(std::clamp(std::lround(row[x]), 0L, 255L));
     }
   }
   return image;

@@ -13,7 +13,8 @@
 # (colon-separated). /tmp, /run, /var/tmp and /dev/shm are fresh tmpfs in the guest.
 #
 # Environment passed into the guest: PATH, HOME, LANG, LC_*, TERM, TZ, GTEST_*, CAMBIO_*,
-# ASAN_/UBSAN_/LSAN_OPTIONS, and every variable named in CAN_VM_ENV (space-separated).
+# ASAN_/UBSAN_/LSAN_OPTIONS, and every variable named in CAN_VM_ENV (space-separated);
+# GALLIUM_DRIVER is softpipe unless set (Mesa's llvmpipe takes seconds to start under emulation).
 # Knobs: CAN_VM_TIMEOUT_S (default 900), CAN_VM_MEMORY_MB (512), CAN_VM_CPUS (2),
 # CAN_VM_NO_INSTALL=1 (never call apt), CAN_VM_QEMU (the qemu binary).
 #
@@ -329,6 +330,11 @@ touch -- "${ctl}/shares"
 # The command script: the environment passed through, cd, run.
 {
   echo 'set +e'
+  # Mesa renders with softpipe in the guest unless told otherwise: llvmpipe compiles its shaders
+  # with LLVM at a process's first frame, 8-10 s under emulation for every `cambio run` (a 0.1 s
+  # pan-tilt run started in 15 s with llvmpipe, 4.6 s with softpipe), and the guest's tests are
+  # on CAN and V4L2, not on rendering, which the host's tests check with llvmpipe.
+  printf 'export GALLIUM_DRIVER=%q\n' "${GALLIUM_DRIVER:-softpipe}"
   while IFS= read -r name; do
     printf 'export %s=%q\n' "${name}" "${!name}"
   done < <(compgen -e | grep -E '^(PATH|HOME|LANG|LC_[A-Z]+|TERM|TZ|GTEST_[A-Z_]+|CAMBIO_[A-Z0-9_]+|[AUL]SAN_OPTIONS)$')

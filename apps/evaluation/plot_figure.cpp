@@ -1,12 +1,14 @@
 #include "plot_figure.hpp"
 
-#include <stdlib.h>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <string>
 #include <system_error>
 
 #include "output_directory.hpp"
@@ -38,13 +40,59 @@ Range range_of(const std::vector<double>& values) {
   return {low - pad, high + pad};
 }
 
+/// The file PLplot writes a figure to: an anonymous in-memory file (memfd) that PLplot opens by
+/// its /proc/self/fd name. It has no name in any directory, so it is gone with the plotting
+/// process however that ends (a crash under a memory limit, a kill when a second signal hurries
+/// the stop), where a temporary directory was left behind.
+class InMemoryFile {
+ public:
+  explicit InMemoryFile(const std::string& name) : name_(name) {
+    fd_ = ::memfd_create("cambio-plot", MFD_CLOEXEC);
+    if (fd_ < 0) fail("cannot make an in-memory file for PLplot");
+    path_ = "/proc/self/fd/" + std::to_string(fd_);
+    // PLplot exit()s on a file it cannot open: one that cannot be opened is refused here.
+    const int probe = ::open(path_.c_str(), O_RDWR | O_CLOEXEC);
+    if (probe < 0) fail("cannot open the in-memory file for PLplot as " + path_);
+    ::close(probe);
+  }
+  ~InMemoryFile() { ::close(fd_); }
+  InMemoryFile(const InMemoryFile&) = delete;
+  InMemoryFile& operator=(const InMemoryFile&) = delete;
+
+  const std::string& path() const { return path_; }
+
+  /// What PLplot wrote (read once it has closed its stream).
+  std::vector<std::uint8_t> contents() const {
+    struct stat status {};
+    if (::fstat(fd_, &status) != 0) fail("cannot read PLplot's file");
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(status.st_size));
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n =
+          ::pread(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(done));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) fail("cannot read PLplot's file");
+      done += static_cast<std::size_t>(n);
+    }
+    return bytes;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw OutputError(name_ + ": " + what + ": " + std::generic_category().message(errno));
+  }
+
+  std::string name_;
+  std::string path_;
+  int fd_ = -1;
+};
+
 /// PLplot reports what plabort() refused through plsError's buffer, and cannot recover from
 /// plexit() (it calls exit()): everything that could reach plexit (an unknown device, an
 /// unwritable file) is checked before plinit().
 class PlotSession {
  public:
-  PlotSession(const std::string& name, const std::filesystem::path& path, PLINT panels)
-      : name_(name) {
+  PlotSession(const std::string& name, const std::string& path, PLINT panels) : name_(name) {
     require_device("pngcairo");
     plsError(&code_, message_);
     plsdev("pngcairo");
@@ -150,31 +198,15 @@ void draw_panel(PlotSession& session, const Figure& figure, const Panel& panel, 
 }  // namespace
 
 std::vector<std::uint8_t> draw_png(const Figure& figure) {
-  std::string pattern = (std::filesystem::temp_directory_path() / "cambio-plot-XXXXXX").string();
-  if (mkdtemp(pattern.data()) == nullptr) {
-    throw OutputError(figure.file + ": cannot make a temporary directory for PLplot: " +
-                      std::generic_category().message(errno));
-  }
-  const std::filesystem::path directory(pattern);
-  struct RemoveDirectory {
-    std::filesystem::path path;
-    ~RemoveDirectory() {
-      std::error_code ignored;
-      std::filesystem::remove_all(path, ignored);
-    }
-  } remove{directory};
-  const std::filesystem::path path = directory / figure.file;
+  const InMemoryFile file(figure.file);
   {
-    PlotSession session(figure.file, path, static_cast<PLINT>(figure.panels.size()));
+    PlotSession session(figure.file, file.path(), static_cast<PLINT>(figure.panels.size()));
     for (std::size_t p = 0; p < figure.panels.size(); ++p) {
       draw_panel(session, figure, figure.panels[p], p == 0);
     }
     session.finish();
   }
-  std::ifstream file(path, std::ios::binary);
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
-                                  std::istreambuf_iterator<char>());
-  if (!file.good() && !file.eof()) throw OutputError(figure.file + ": cannot read PLplot's file");
+  std::vector<std::uint8_t> bytes = file.contents();
   if (bytes.size() < 8) throw OutputError(figure.file + ": PLplot wrote no image");
   return bytes;
 }

@@ -191,14 +191,18 @@ TEST(Outputs, AtEveryAddressSpaceLimitARunFinishesOrSaysItRanOutOfMemory) {
   // Between about 550 and 900 MB Mesa's software renderer fails in a different place from one run
   // to the next: MuJoCo's "could not allocate memory" (once a device fault, 3), an incomplete
   // framebuffer, or a segfault inside the driver (139). Whatever fails, a run either finishes or
-  // says it ran out of memory (1), within a bounded time.
+  // says it ran out of memory (1), within a bounded time, and leaves nothing in the temporary
+  // directory (the plotting process, which may be the one that dies, once left its own there).
   for (int limit_mb = 560; limit_mb <= 900; limit_mb += 20) {
     const fs::path dir = fresh_directory("address_space_" + std::to_string(limit_mb));
-    const auto result =
-        run_in_shell("ulimit -v " + std::to_string(limit_mb * 1'000'000 / 1024) +
-                     "; timeout -s KILL 120 \"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
-                     "--set experiment.duration_s=0.2 --out '" +
-                     dir.string() + "'");
+    const fs::path tmp = fresh_directory("address_space_tmp_" + std::to_string(limit_mb));
+    fs::create_directories(tmp);
+    const auto result = run_in_shell(
+        "ulimit -v " + std::to_string(limit_mb * 1'000'000 / 1024) + "; TMPDIR='" + tmp.string() +
+        "' timeout -s KILL 120 \"$CAMBIO\" run tests/apps/data/sim_hold.yaml "
+        "--set experiment.duration_s=0.2 --out '" +
+        dir.string() + "'");
+    EXPECT_TRUE(fs::is_empty(tmp)) << limit_mb << " MB: " << fs::directory_iterator(tmp)->path();
     if (result.exit_code == 0) {
       EXPECT_TRUE(fs::exists(dir / "summary.json")) << limit_mb << " MB: " << result.output;
       continue;

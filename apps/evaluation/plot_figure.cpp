@@ -71,7 +71,9 @@ class InMemoryFile {
       const ssize_t n =
           ::pread(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(done));
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) fail("cannot read PLplot's file");
+      if (n < 0) fail("cannot read PLplot's file");
+      // A file that shrank since fstat: errno says nothing of it.
+      if (n == 0) throw OutputError(name_ + ": PLplot's file ended before its stated size");
       done += static_cast<std::size_t>(n);
     }
     return bytes;

@@ -24,7 +24,7 @@ packages=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev
   libmujoco-dev libqhull-dev
   libegl-dev libopengl-dev libgl-dev libgl1-mesa-dri libegl-mesa0
-  libopencv-dev
+  libopencv-dev libpng-dev libjpeg62-turbo-dev
   libvisp-vs-dev libvisp-visual-features-dev libvisp-core-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo

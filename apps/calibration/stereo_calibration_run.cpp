@@ -7,8 +7,7 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "image_files.hpp"
 #include "right_camera_mount.hpp"
 #include "stereo_calibration.hpp"
 #include "stereo_image_pairs.hpp"
@@ -31,10 +30,14 @@ struct FoundViews {
 
 /// The image as grey levels; refuses one that cannot be read or is not the camera's size.
 cv::Mat read_grey(const std::filesystem::path& path, const config::CameraConfig& camera) {
-  const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  if (grey.empty()) {
-    throw CalibrationInputError("--images: cannot read '" + path.string() + "' as an image");
+  hal::Image image;
+  try {
+    image = read_image_file(path.string(), hal::PixelFormat::kGrey8);
+  } catch (const ImageFileError& error) {
+    throw CalibrationInputError(std::string("--images: ") + error.what());
   }
+  const cv::Mat grey =
+      cv::Mat(image.height_px, image.width_px, CV_8UC1, image.pixels.data()).clone();
   if (grey.cols != camera.width_px || grey.rows != camera.height_px) {
     throw CalibrationInputError("--images: '" + path.string() + "' is " +
                                 std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +

@@ -5,12 +5,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <iostream>
 #include <memory>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include "decoded_pixels.hpp"
 
 namespace cambio::app {
 
@@ -28,23 +26,6 @@ const char* container_name(ImageContainer container) {
   return "image";
 }
 
-// OpenCV 4.6's imdecode writes the text of a decoder's exception to std::cerr ("imdecode_(''):
-// can't read data: ...") and returns an empty image; decode_image's own message names the file
-// and says what is wrong, so that text is dropped while imdecode runs.
-class CerrSilenced {
- public:
-  CerrSilenced() : saved_(std::cerr.rdbuf(nullptr)) {}
-  ~CerrSilenced() {
-    std::cerr.rdbuf(saved_);
-    std::cerr.clear();
-  }
-  CerrSilenced(const CerrSilenced&) = delete;
-  CerrSilenced& operator=(const CerrSilenced&) = delete;
-
- private:
-  std::streambuf* saved_;
-};
-
 void check_size(const std::string& name, const char* what, std::int64_t width,
                 std::int64_t height) {
   const std::string size = std::to_string(width) + "x" + std::to_string(height) + " px";
@@ -56,42 +37,39 @@ void check_size(const std::string& name, const char* what, std::int64_t width,
   }
 }
 
-// The file's pixels as OpenCV decodes them (its depth and channels, colour in BGR order); empty
-// when they cannot be decoded.
-cv::Mat decode_pixels(std::span<const std::uint8_t> bytes) {
-  cv::Mat raw;
-  try {
-    const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8U,
-                          const_cast<std::uint8_t*>(bytes.data()));
-    const CerrSilenced silenced;
-    raw = cv::imdecode(encoded, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const cv::Exception&) {
-    raw.release();
+DecodedPixels decode_pixels(std::span<const std::uint8_t> bytes, const ImageHeader& header) {
+  switch (header.container) {
+    case ImageContainer::kPng:
+      return decode_png_pixels(bytes);
+    case ImageContainer::kJpeg:
+      return decode_jpeg_pixels(bytes);
+    case ImageContainer::kPnm:
+      break;
   }
-  return raw;
+  return decode_pnm_pixels(bytes, header);
 }
 
-// 8-bit pixels of 1, 3 or 4 channels (BGR order) in the channels of `format`; empty for any
-// other channel count.
-cv::Mat converted_to(const cv::Mat& raw, hal::PixelFormat format) {
-  cv::Mat converted;
-  const int channels = raw.channels();
-  if (format == hal::PixelFormat::kGrey8) {
-    if (channels == 1)
-      converted = raw;
-    else if (channels == 3)
-      cv::cvtColor(raw, converted, cv::COLOR_BGR2GRAY);
-    else if (channels == 4)
-      cv::cvtColor(raw, converted, cv::COLOR_BGRA2GRAY);
+// Grey from RGB with ITU-R BT.601 luma weights (0.299, 0.587, 0.114) in 15-bit fixed point,
+// rounded: OpenCV 4.6's COLOR_RGB2GRAY to the last bit (the same on a million random colours),
+// so a colour file reads as it did when OpenCV decoded it.
+std::uint8_t luma(const std::uint8_t* rgb) {
+  return static_cast<std::uint8_t>((rgb[0] * 9798 + rgb[1] * 19235 + rgb[2] * 3735 + 16384) >> 15);
+}
+
+hal::Image converted_to(const DecodedPixels& pixels, hal::PixelFormat format) {
+  hal::Image image(pixels.width_px, pixels.height_px, format);
+  const std::size_t count =
+      static_cast<std::size_t>(pixels.width_px) * static_cast<std::size_t>(pixels.height_px);
+  const std::uint8_t* from = pixels.samples.data();
+  std::uint8_t* to = image.pixels.data();
+  if (pixels.channels == image.channels()) {
+    std::copy(from, from + count * static_cast<std::size_t>(pixels.channels), to);
+  } else if (format == hal::PixelFormat::kGrey8) {
+    for (std::size_t p = 0; p < count; ++p) to[p] = luma(from + 3 * p);
   } else {
-    if (channels == 1)
-      cv::cvtColor(raw, converted, cv::COLOR_GRAY2RGB);
-    else if (channels == 3)
-      cv::cvtColor(raw, converted, cv::COLOR_BGR2RGB);
-    else if (channels == 4)
-      cv::cvtColor(raw, converted, cv::COLOR_BGRA2RGB);
+    for (std::size_t p = 0; p < count; ++p) to[3 * p] = to[3 * p + 1] = to[3 * p + 2] = from[p];
   }
-  return converted;
+  return image;
 }
 
 }  // namespace
@@ -106,28 +84,16 @@ hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& 
                          "complete and valid header)");
   }
   check_size(name, "declares", header->width_px, header->height_px);
-  cv::Mat raw = decode_pixels(bytes);
-  if (raw.empty()) {
+  DecodedPixels pixels;
+  try {
+    pixels = decode_pixels(bytes, *header);
+  } catch (const DamagedPixels& damage) {
     throw ImageFileError(name + ": a damaged " + container_name(header->container) +
-                         " file (its pixels cannot be decoded)");
+                         " file (its pixels cannot be decoded: " + damage.what() + ")");
   }
   // EXIF orientation may have turned the image; the decoder may disagree with the header.
-  check_size(name, "decodes to", raw.cols, raw.rows);
-  if (raw.depth() == CV_16U) {
-    raw.convertTo(raw, CV_8U, 1.0 / 257.0);
-  } else if (raw.depth() != CV_8U) {
-    throw ImageFileError(name + ": unsupported sample type (expected 8 or 16 bit)");
-  }
-  const cv::Mat converted = converted_to(raw, format);
-  if (converted.empty()) {
-    throw ImageFileError(name + ": unsupported channel count " + std::to_string(raw.channels()));
-  }
-  hal::Image image(converted.cols, converted.rows, format);
-  for (int y = 0; y < converted.rows; ++y) {
-    const auto* source = converted.ptr<std::uint8_t>(y);
-    std::copy(source, source + image.stride_bytes(), image.row(y));
-  }
-  return image;
+  check_size(name, "decodes to", pixels.width_px, pixels.height_px);
+  return converted_to(pixels, format);
 }
 
 hal::Image read_image_file(const std::string& path, hal::PixelFormat format) {

@@ -32,6 +32,10 @@ struct ImageHeader {
   ImageContainer container = ImageContainer::kPng;
   std::int64_t width_px = 0;
   std::int64_t height_px = 0;
+  // PGM/PPM only: the largest sample value the header declares, and where the samples begin
+  // (after the one whitespace character that ends the header).
+  int pnm_max_value = 0;
+  std::size_t pnm_samples_at = 0;
 };
 
 /// Reads the container and size from the first bytes of a PNG (IHDR), a JPEG (the first SOFn
@@ -43,8 +47,8 @@ std::optional<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes
 /// it to `format`; 16-bit samples are scaled to 8 bit (value / 257). The container must be one
 /// read_image_header knows and the size it declares, like the decoded one, within
 /// kMaxImageSidePx and kMaxImagePixels, so no decoder allocates for a size that is refused.
-/// Throws ImageFileError naming `name` and what is wrong. Not thread-safe: std::cerr is silenced
-/// while OpenCV decodes (it writes its decoders' errors there).
+/// Colour is turned grey with OpenCV's weights and rounding (BT.601 luma, 15-bit fixed point).
+/// Throws ImageFileError naming `name` and what is wrong. Thread-safe; prints nothing.
 hal::Image decode_image(std::span<const std::uint8_t> bytes, const std::string& name,
                         hal::PixelFormat format);
 

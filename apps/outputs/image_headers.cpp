@@ -30,7 +30,7 @@ std::optional<ImageHeader> png_header(std::span<const std::uint8_t> bytes) {
 // JPEG: SOI, then marker segments (0xFF, the marker, a 2-byte length that counts itself) up to
 // the first start-of-frame, whose bytes 3-6 are height and width (ITU-T T.81, B.2.2). Markers are
 // found as libjpeg finds them: bytes before a 0xFF are skipped, 0xFF fill bytes too. The file
-// must begin with FF D8 FF, the signature OpenCV chooses its JPEG decoder by (see decode_image).
+// must begin with FF D8 FF, the signature JPEG readers check (see read_image_header).
 std::optional<ImageHeader> jpeg_header(std::span<const std::uint8_t> bytes) {
   if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF) {
     return std::nullopt;
@@ -93,17 +93,15 @@ std::optional<ImageHeader> pnm_header(std::span<const std::uint8_t> bytes) {
   if (!width || !height || !max_value || *max_value < 1 || *max_value > 65535) {
     return std::nullopt;
   }
-  return ImageHeader{ImageContainer::kPnm, *width, *height};
+  return ImageHeader{ImageContainer::kPnm, *width, *height, static_cast<int>(*max_value), i + 1};
 }
 
 }  // namespace
 
-// Each container is recognised by the very signature OpenCV's decoder for it checks (PNG: the 8
-// bytes, JPEG: FF D8 FF, PxM: 'P', a digit, a blank), and no decoder OpenCV tries before it
-// shares those first bytes, so imdecode, which takes the first decoder whose signature matches,
-// decodes with the decoder of the container read here. Anything looser lets another decoder in:
-// fuzz_image_read found "FF D8 8A ..." with "DICM" at byte 128, which OpenCV handed to GDCM's
-// DICOM reader, and that aborts on a malformed file.
+// Each container is recognised by its full signature (PNG: the 8 bytes, JPEG: FF D8 FF, PxM: 'P',
+// a digit, a blank), the same the common decoders check, and decode_image hands the bytes to the
+// decoder of the container read here and no other. (When OpenCV decoded them, a looser match let
+// "FF D8 8A ..." with "DICM" at byte 128 through to GDCM's DICOM reader, which aborted.)
 std::optional<ImageHeader> read_image_header(std::span<const std::uint8_t> bytes) {
   if (auto header = png_header(bytes)) return header;
   if (auto header = jpeg_header(bytes)) return header;

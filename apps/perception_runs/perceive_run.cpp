@@ -5,8 +5,6 @@
 #include <optional>
 #include <stdexcept>
 
-#include <opencv2/core/utils/logger.hpp>
-
 #include "command.hpp"
 #include "contact_sheet.hpp"
 #include "image_files.hpp"
@@ -60,9 +58,6 @@ void print_summary_line(const perception::DisparityResult& d, const OutputDirect
 }  // namespace
 
 bool read_perceive_images(PerceiveInputs& inputs) {
-  // OpenCV logs a warning of its own for an image it cannot decode; decode_image's message names
-  // the file and says why, so only OpenCV's errors are let through.
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   try {
     inputs.left = read_image_file(inputs.left_path, hal::PixelFormat::kGrey8);
     inputs.right = read_image_file(inputs.right_path, hal::PixelFormat::kGrey8);

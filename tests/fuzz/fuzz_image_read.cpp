@@ -8,15 +8,7 @@
 #include <cstdlib>
 #include <span>
 
-#include <opencv2/core/utils/logger.hpp>
-
 #include "image_files.hpp"
-
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  // OpenCV logs every image it cannot decode; the fuzzer's own output is what matters.
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
-  return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> bytes(data, size);

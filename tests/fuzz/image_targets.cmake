@@ -4,7 +4,8 @@
 # apps/outputs (the PNG, JPEG and PGM/PPM decoders over libpng and libjpeg are fuzzed with it; the
 # program is one executable, not a library); -fsanitize=fuzzer is added here, ASan and UBSan come
 # from the including build (CAMBIO_SANITIZE=ON, or the script's flags).
-#   seed corpus: none needed; PNG, JPEG and PGM headers are found within seconds
+#   seed corpus: tests/fuzz/seeds/image_read/ (small files of each kind the decoders take:
+#                palette, interlaced, 16-bit and alpha PNGs, progressive and EXIF JPEGs, PGM/PPM)
 #   run:         fuzz_image_read -max_len=65536 -rss_limit_mb=2048 -malloc_limit_mb=1024 CORPUS
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)

@@ -39,9 +39,9 @@ void V4l2Capture::configure() {
                                  ? fourcc(settings_.pixel_format[0], settings_.pixel_format[1],
                                           settings_.pixel_format[2], settings_.pixel_format[3])
                                  : 0;
-  if (!can_convert(code, info_.format)) {
+  if (code != kFourccMjpeg && !can_convert(code, info_.format)) {
     throw std::runtime_error(where + ": cannot convert pixel format '" + settings_.pixel_format +
-                             "' (GREY and YUYV are converted)");
+                             "' (GREY and YUYV are converted, MJPG decoded)");
   }
   const StreamRequest request{code, info_.intrinsics.width_px, info_.intrinsics.height_px,
                               settings_.frame_rate_hz};
@@ -67,6 +67,7 @@ void V4l2Capture::configure() {
       stream_.interval.rate_hz() > 0.0 ? stream_.interval.rate_hz() : settings_.frame_rate_hz;
   frame_period_ns_ = static_cast<std::int64_t>(std::llround(1e9 / rate_hz));
   set_controls();
+  if (code == kFourccMjpeg) mjpeg_ = std::make_unique<MjpegDecoder>();
   const std::size_t granted =
       device_->map_buffers(static_cast<std::size_t>(settings_.buffer_count));
   // At least one buffer stays queued with the driver, or it stops filling.
@@ -177,7 +178,9 @@ hal::Status V4l2Capture::deliver(std::size_t held_index, hal::Image& out) noexce
   const std::span<const std::uint8_t> bytes =
       mapped.first(std::min(buffer.bytes_used, mapped.size()));
   const hal::Status converted =
-      convert_frame(stream_.format.fourcc, bytes, stream_.format.bytes_per_line, out);
+      mjpeg_ != nullptr
+          ? mjpeg_->decode(bytes, out)
+          : convert_frame(stream_.format.fourcc, bytes, stream_.format.bytes_per_line, out);
   const std::int64_t stamp_ns = held_stamps_ns_[held_index];
   // Requeue the delivered frame and every older one: newest wins, the older are dropped.
   for (std::size_t k = 0; k < held_index; ++k) drop_oldest();

@@ -56,13 +56,15 @@ std::vector<hal::SettingProblem> check_v4l2_rig(const hal::HardwareInfo& hardwar
                                               in_quotes(user->second) + " already streams from"});
     }
     if (given.pixel_format.empty()) {
-      problems.push_back({key + "pixel_format",
-                          "expected the device's pixel format (GREY or YUYV) for backend v4l2, "
-                          "found none"});
-    } else if (given.pixel_format != "GREY" && given.pixel_format != "YUYV") {
       problems.push_back(
-          {key + "pixel_format", "expected GREY or YUYV (the formats this build converts), found " +
-                                     in_quotes(given.pixel_format)});
+          {key + "pixel_format",
+           "expected the device's pixel format (GREY, YUYV or MJPG) for backend v4l2, "
+           "found none"});
+    } else if (given.pixel_format != "GREY" && given.pixel_format != "YUYV" &&
+               given.pixel_format != "MJPG") {
+      problems.push_back({key + "pixel_format",
+                          "expected GREY, YUYV or MJPG (the formats this build reads), found " +
+                              in_quotes(given.pixel_format)});
     } else if (given.pixel_format == "YUYV" && camera.intrinsics.width_px % 2 != 0) {
       problems.push_back({key + "width_px",
                           "expected an even width for YUYV (two pixels share "

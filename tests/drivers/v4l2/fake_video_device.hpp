@@ -57,6 +57,11 @@ class FakeVideoDevice final : public VideoDevice {
     format_ = {code, width_px, height_px,
                static_cast<std::size_t>(width_px) * per_pixel + row_padding_bytes, 0};
     format_.size_bytes = format_.bytes_per_line * static_cast<std::size_t>(height_px);
+    if (code == kFourccMjpeg) {
+      // Compressed: no rows; a buffer as large as drivers make one (room for a poor ratio).
+      format_.bytes_per_line = 0;
+      format_.size_bytes = static_cast<std::size_t>(width_px) * height_px * 3 + 4096;
+    }
     return format_;
   }
   FrameInterval set_frame_interval(FrameInterval interval) override {

@@ -58,20 +58,20 @@ TEST(V4l2RigKeys, AV4l2CameraWithoutItsSettingsIsRefusedAtItsEntry) {
             (std::vector<std::string>{
                 "28:5: cameras.eye.device: expected the camera's device node (e.g. device: "
                 "/dev/video0) for backend v4l2, found none",
-                "28:5: cameras.eye.pixel_format: expected the device's pixel format (GREY or "
-                "YUYV) for backend v4l2, found none",
+                "28:5: cameras.eye.pixel_format: expected the device's pixel format (GREY, YUYV or "
+                "MJPG) for backend v4l2, found none",
                 "28:5: cameras.eye.frame_rate_hz: expected the rate to stream at (frame_rate_hz) "
                 "for backend v4l2, found none"}));
 }
 
 TEST(V4l2RigKeys, BadSettingsAreRefusedAtTheirKeys) {
-  EXPECT_EQ(check(eye_with("    backend: v4l2\n    device: video0\n    pixel_format: MJPG\n"
+  EXPECT_EQ(check(eye_with("    backend: v4l2\n    device: video0\n    pixel_format: H264\n"
                            "    frame_rate_hz: 30")),
             (std::vector<std::string>{
                 "34:13: cameras.eye.device: expected a device node under /dev/ (e.g. /dev/video0 "
                 "or /dev/v4l/by-id/...), found 'video0'",
-                "35:19: cameras.eye.pixel_format: expected GREY or YUYV (the formats this build "
-                "converts), found 'MJPG'"}));
+                "35:19: cameras.eye.pixel_format: expected GREY, YUYV or MJPG (the formats this "
+                "build reads), found 'H264'"}));
   EXPECT_EQ(check(eye_with("    backend: v4l2\n    device: /dev/../etc/passwd\n"
                            "    pixel_format: GREY\n    frame_rate_hz: 30"))
                 .size(),

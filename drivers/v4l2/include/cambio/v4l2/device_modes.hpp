@@ -15,6 +15,7 @@ constexpr std::uint32_t fourcc(char a, char b, char c, char d) {
 }
 inline constexpr std::uint32_t kFourccGrey = fourcc('G', 'R', 'E', 'Y');
 inline constexpr std::uint32_t kFourccYuyv = fourcc('Y', 'U', 'Y', 'V');
+inline constexpr std::uint32_t kFourccMjpeg = fourcc('M', 'J', 'P', 'G');
 
 /// "YUYV" from the code, as v4l2-ctl prints it.
 std::string fourcc_text(std::uint32_t code);

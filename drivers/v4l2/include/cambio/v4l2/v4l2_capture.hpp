@@ -9,6 +9,7 @@
 
 #include "cambio/hal/camera.hpp"
 #include "cambio/hal/clock.hpp"
+#include "cambio/v4l2/mjpeg_decoder.hpp"
 #include "cambio/v4l2/stamp_mapping.hpp"
 #include "cambio/v4l2/v4l2_camera_settings.hpp"
 #include "cambio/v4l2/video_device.hpp"
@@ -28,7 +29,8 @@ struct ConfiguredStream {
 struct CaptureCounters {
   std::atomic<std::uint64_t> delivered{0};
   /// Frames never delivered: superseded by a newer one (newest wins), unpaired, damaged
-  /// (V4L2_BUF_FLAG_ERROR) or dropped by the driver for want of a queued buffer (sequence gaps).
+  /// (V4L2_BUF_FLAG_ERROR, or an MJPEG frame that does not decode) or dropped by the driver for
+  /// want of a queued buffer (sequence gaps).
   std::atomic<std::uint64_t> dropped{0};
   /// Delivered more than one frame period after their stamp.
   std::atomic<std::uint64_t> late{0};
@@ -91,6 +93,7 @@ class V4l2Capture {
   hal::Clock& clock_;
   StampMapping mapping_;
   ConfiguredStream stream_;
+  std::unique_ptr<MjpegDecoder> mjpeg_;  ///< For an MJPEG stream: made at configure.
   std::size_t held_capacity_ = 1;
   std::int64_t frame_period_ns_ = 0;
   bool streaming_ = false;

@@ -40,6 +40,8 @@ Json score_json(const GeneratedGazeRun& run, const GazeRunScore& score) {
               {"depth_m", run.target_depth_m},
               {"azimuth_deg", run.target_azimuth_deg},
               {"elevation_deg", run.target_elevation_deg},
+              {"target_shape", run.target_shape},
+              {"target_texture", run.target_texture},
               {"second_depth_m", run.second_depth_m},
               {"pursuit_speed_deg_s", run.pursuit_speed_deg_s},
               {"distractors", run.distractors},

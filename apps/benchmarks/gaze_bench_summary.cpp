@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -45,6 +46,8 @@ Json number_or_null(double value) {
 struct TaskFigures {
   int runs = 0, successes = 0, errors = 0;
   std::vector<double> verged, final_error, worst, off_target, occluded, rms;
+  /// Runs and successes by the target's texture kind: what kinds of surface the vision fails on.
+  std::map<std::string, std::array<int, 2>> by_texture;
   Json failures = Json::array();
 };
 
@@ -60,8 +63,11 @@ TaskFigures gather_task(const std::vector<Json>& results, const std::string& nam
       f.failures.push_back(Json{{"name", r["name"]}, {"why", r["error"]}});
       continue;
     }
+    auto& by_texture = f.by_texture[r.value("target_texture", "unknown")];
+    ++by_texture[0];
     if (r["success"].get<bool>()) {
       ++f.successes;
+      ++by_texture[1];
     } else {
       f.failures.push_back(Json{{"name", r["name"]}, {"why", r["failure"]}});
     }
@@ -102,6 +108,11 @@ Json task_json(const TaskFigures& f) {
     t["median_pursuit_rms_deg"] = median(f.rms);
     t["max_pursuit_rms_deg"] = quantile(f.rms, 1.0);
   }
+  Json by_texture = Json::object();
+  for (const auto& [kind, counts] : f.by_texture) {
+    by_texture[kind] = Json{{"runs", counts[0]}, {"successes", counts[1]}};
+  }
+  t["by_target_texture"] = by_texture;
   t["failures"] = f.failures;
   return t;
 }
@@ -154,6 +165,12 @@ void print_gaze_bench_table(const Json& summary) {
                 t["runs"].get<int>(), 100.0 * t["success_rate"].get<double>(),
                 cell("median_time_to_verge_s"), cell("median_final_error_deg"),
                 cell("p95_final_error_deg"), cell("max_off_target_s"));
+    std::string by_texture = "    by target texture:";
+    for (const auto& kind : t["by_target_texture"].items()) {
+      by_texture += " " + kind.key() + " " + std::to_string(kind.value()["successes"].get<int>()) +
+                    "/" + std::to_string(kind.value()["runs"].get<int>());
+    }
+    std::printf("%s\n", by_texture.c_str());
     for (const Json& f : t["failures"]) {
       std::printf("    %s: %s\n", f["name"].get<std::string>().c_str(),
                   f["why"].get<std::string>().c_str());

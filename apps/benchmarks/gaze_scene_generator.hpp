@@ -48,6 +48,8 @@ struct GeneratedGazeRun {
   double target_depth_m = 0.0;      ///< From the dominant eye to the target's centre.
   double target_azimuth_deg = 0.0;  ///< Positive left.
   double target_elevation_deg = 0.0;
+  std::string target_shape;          ///< sphere, box or cylinder.
+  std::string target_texture;        ///< noise, checker, dots, stripes, or none (untextured).
   double second_depth_m = 0.0;       ///< kSaccadeDepth: the saccade's target.
   double pursuit_speed_deg_s = 0.0;  ///< kPursuit.
   double saccade_at_s = 0.0;         ///< kSaccadeDepth: when the saccade is commanded.

@@ -17,9 +17,11 @@ double luma(const Vec3& rgb) {
 /// object's size, so its image has detail at every depth), random kind and pattern seed, and a
 /// second colour whose luma differs by 0.15-0.6 (two colours of one luma are no texture to a
 /// grey retina: such a target is an untextured one, which has a task of its own).
-std::string texture(Draw& draw, const Vec3& base, double feature_m) {
+std::string texture(Draw& draw, const Vec3& base, double feature_m,
+                    std::string* drawn_kind = nullptr) {
   static constexpr const char* kKinds[] = {"noise", "checker", "dots", "stripes"};
   const char* kind = kKinds[draw.integer(0, 3)];
+  if (drawn_kind != nullptr) *drawn_kind = kind;
   Vec3 second = draw.colour();
   for (int tries = 0; tries < 100; ++tries) {
     const double contrast = std::abs(luma(second) - luma(base));
@@ -60,7 +62,7 @@ std::string triple(const Vec3& v) {
   return "[" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + "]";
 }
 
-std::string object_yaml(Draw& draw, const Object& o) {
+std::string object_yaml(Draw& draw, const Object& o, std::string* texture_kind) {
   std::string y = "  - name: " + o.name + "\n    shape: " + o.shape + "\n";
   if (o.shape == "sphere") y += "    radius_m: " + number(o.size_m) + "\n";
   if (o.shape == "box") {
@@ -71,8 +73,10 @@ std::string object_yaml(Draw& draw, const Object& o) {
   }
   const Vec3 rgb = draw.colour();
   y += "    xyz_m: " + triple(o.xyz_m) + "\n    rgb: " + triple(rgb) + "\n";
+  if (texture_kind != nullptr) *texture_kind = "none";
   if (o.textured) {
-    y += "    texture: " + texture(draw, rgb, o.size_m * draw.uniform(0.12, 0.35)) + "\n";
+    y += "    texture: " + texture(draw, rgb, o.size_m * draw.uniform(0.12, 0.35), texture_kind) +
+         "\n";
   }
   if (!o.motion.empty()) y += "    body: scripted\n    motion: " + o.motion + "\n";
   return y;

@@ -55,8 +55,9 @@ struct Object {
   std::string motion;  ///< YAML of `motion:`, empty when static.
 };
 
-/// The object's entry in the scene's `objects:`, its colour and texture drawn.
-std::string object_yaml(Draw& draw, const Object& o);
+/// The object's entry in the scene's `objects:`, its colour and texture drawn; `texture_kind`,
+/// when given, receives the texture's kind (noise, checker, dots, stripes) or "none".
+std::string object_yaml(Draw& draw, const Object& o, std::string* texture_kind = nullptr);
 
 /// A target: its angular radius (drawn, 2.5-6 deg) sets its size from its depth, so it covers
 /// the retina's fovea at every depth without filling the field.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
@@ -53,6 +54,19 @@ TEST(GazeSceneGenerator, EveryRunLoadsAndItsTargetIsWhereTheTruthSays) {
       EXPECT_GE(run.target_depth_m, 0.4) << run.name;
       EXPECT_LE(run.target_depth_m, 3.0) << run.name;
       EXPECT_LE(std::abs(run.target_elevation_deg), 20.0) << run.name;
+      // The report's shape and texture of the target are the loaded scene's.
+      static const std::map<config::ShapeKind, std::string> kShapes = {
+          {config::ShapeKind::kSphere, "sphere"},
+          {config::ShapeKind::kBox, "box"},
+          {config::ShapeKind::kCylinder, "cylinder"}};
+      static const std::map<config::TextureKind, std::string> kTextures = {
+          {config::TextureKind::kNone, "none"},
+          {config::TextureKind::kNoise, "noise"},
+          {config::TextureKind::kChecker, "checker"},
+          {config::TextureKind::kDots, "dots"},
+          {config::TextureKind::kStripes, "stripes"}};
+      EXPECT_EQ(run.target_shape, kShapes.at(target->shape)) << run.name;
+      EXPECT_EQ(run.target_texture, kTextures.at(target->texture.kind)) << run.name;
       if (task == GazeBenchTask::kPursuit) continue;  // It starts where its path starts.
       const auto& p = target->pose.xyz_m;
       const double depth = std::hypot(p[0] - head.left_eye_W_m[0], p[1] - head.left_eye_W_m[1],
@@ -87,6 +101,15 @@ TEST(GazeBench, ATwentySceneSubsetRunsAndIsScoredAgainstTheTruth) {
     ASSERT_TRUE(summary["tasks"].contains(task)) << task;
     EXPECT_EQ(summary["tasks"][task]["runs"], 4) << task;
   }
+  // Every run is counted once under its target's texture.
+  for (const auto& task : summary["tasks"].items()) {
+    int runs = 0;
+    for (const auto& kind : task.value()["by_target_texture"].items()) {
+      runs += kind.value()["runs"].get<int>();
+    }
+    EXPECT_EQ(runs, task.value()["runs"].get<int>()) << task.key();
+  }
+  EXPECT_TRUE(summary["tasks"]["untextured"]["by_target_texture"].contains("none"));
   // Textured vergence and re-vergence across depths: the behaviour the bench exists for.
   EXPECT_GE(summary["tasks"]["verge"]["successes"].get<int>(), 3) << result.output;
   EXPECT_GE(summary["tasks"]["saccade_depth"]["successes"].get<int>(), 3) << result.output;

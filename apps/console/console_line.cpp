@@ -176,6 +176,7 @@ class Parser {
     if (name == "verge") return parse_verge();
     if (name == "reach") return parse_reach();
     if (name == "grasp" || name == "release") return Gripper{name == "grasp", arm()};
+    if (name == "home") return Home{more() ? words_[next_++] : std::string()};
     return parse_ssm();  // The one name left: find_syntax() knew it.
   }
 

@@ -61,13 +61,17 @@ struct Gripper {
   bool close = true;
   Arm arm = Arm::kNearest;
 };
+/// Home a joint's drive again (CiA 402 homing), or every joint that lost its reference.
+struct Home {
+  std::string joint;  ///< Empty: every joint that must home and has not since its drive booted.
+};
 /// Request SSM features and print them; with a directory, also save the maps as PNG.
 struct Ssm {
   std::string save_directory;
 };
 
 using Command = std::variant<Help, Quit, Status, Wait, MoveJoint, Look, Saccade, Pursue, Hold,
-                             Verge, Reach, Gripper, Ssm>;
+                             Verge, Reach, Gripper, Home, Ssm>;
 
 /// A line that is not a command: what was expected, and where (the word, 1-based).
 struct ParseError {

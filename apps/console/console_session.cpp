@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "cambio/config/echoed_text.hpp"
 #include "console_session_detail.hpp"
 
 namespace cambio::app {
@@ -45,6 +46,13 @@ void ConsoleSession::report_loop_refusals() {
       lines_refused_ += rejected - gaze_rejections_seen_;
     }
     gaze_rejections_seen_ = rejected;
+  }
+  // A joint whose drive does not home (an absolute encoder, the sim) refuses `home`.
+  if (const std::uint64_t refused = job_.homes_refused(); refused > homes_refused_seen_) {
+    out_ << "refused: joint " << config::in_quotes(job_.last_refused_home())
+         << " does not home (its rig entry sets no homing, or its backend has none)\n";
+    lines_refused_ += refused - homes_refused_seen_;
+    homes_refused_seen_ = refused;
   }
   if (const auto* arm_status = job_.arm_status()) {
     control::ArmStatus arms;
@@ -139,6 +147,16 @@ ConsoleSession::Next ConsoleSession::carry_out(const console::Command& command,
           const control::ArmSide arm = arm_side(c.arm);
           report(c.close ? actions_.grasp(arm) : actions_.release(arm),
                  c.close ? "closing the gripper" : "opening the gripper");
+        } else if constexpr (std::is_same_v<T, Home>) {
+          if (!job_.request_home(c.joint)) {
+            ++lines_refused_;
+            out_ << "refused: " << config::in_quotes(c.joint) << " is not a joint of the rig\n";
+          } else {
+            sent_ = true;
+            out_ << (c.joint.empty() ? std::string("homing every joint that lost its reference")
+                                     : "homing " + c.joint)
+                 << "\n";
+          }
         } else if constexpr (std::is_same_v<T, Ssm>) {
           print_ssm(c.save_directory);
         }

@@ -59,6 +59,7 @@ class ConsoleSession {
   bool features_requested_ = false;
   std::uint64_t gaze_rejections_seen_ = 0;
   std::uint64_t arm_commands_seen_ = 0;
+  std::uint64_t homes_refused_seen_ = 0;
 };
 
 }  // namespace cambio::app

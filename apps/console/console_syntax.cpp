@@ -24,6 +24,9 @@ constexpr Syntax kCommands[] = {
      "named; it stops on its touch sensor"},
     {"grasp", "grasp [left|right]", "close the named arm's gripper, or both"},
     {"release", "release [left|right]", "open the named arm's gripper, or both"},
+    {"home", "home [JOINT]",
+     "home a joint's drive again (CiA 402 homing), or every joint whose drive lost its "
+     "reference; it is then enabled where it homed"},
     {"ssm", "ssm [save DIR]", "print the SSM's features at the foveas; save the maps as PNG"},
 };
 

@@ -104,6 +104,13 @@ class MainJob {
   hal::SeqlockChannel<perception::FeatureRequest>* feature_requests() {
     return gaze_loop_ != nullptr ? &feature_requests_ : nullptr;
   }
+  /// Asks `joint` to home again, or with an empty name every joint that must home and lost its
+  /// reference (hal::DriveRequest::kHome), from the next joint-loop cycle. Returns false for a
+  /// name that is no rig joint. A joint that does not home is refused by its group:
+  /// homes_refused() counts those, last_refused_home() names the last.
+  bool request_home(const std::string& joint);
+  std::uint64_t homes_refused() const;
+  std::string last_refused_home() const;
   /// A reader of the joint loops' published states (the believed joints), rig order.
   control::BelievedJoints make_believed_joints() const;
   /// The rig's joints in rig order (the command frames' order).

@@ -1,5 +1,6 @@
 #include "main_job.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <stdexcept>
 
@@ -83,6 +84,7 @@ void MainJob::build_joint_loops() {
     control::JointLoopParams params = joint_loop_params(rig);
     params.fault_recovery_delay_s = experiment_.fault_recovery.after_s;
     params.max_fault_recoveries = experiment_.fault_recovery.max_recoveries;
+    params.home_after_reboot = experiment_.fault_recovery.home_after_reboot;
     params.name = plan.name;
     params.target_count = static_cast<int>(joint_order_.size());
     if (plans.size() > 1) params.rig_hold = &rig_hold_;
@@ -133,6 +135,39 @@ void MainJob::add_backend_loops() {
           {backend_loop.loop, runtime::LoopSchedule{backend_loop.rate_hz, backend_loop.priority}});
     }
   }
+}
+
+bool MainJob::request_home(const std::string& joint) {
+  if (joint.empty()) {
+    for (const auto& slot : joint_loops_) slot.loop->request(hal::DriveRequest::kHome);
+    return true;
+  }
+  const auto it = std::find(joint_order_.begin(), joint_order_.end(), joint);
+  if (it == joint_order_.end()) return false;
+  const auto rig_index = static_cast<int>(it - joint_order_.begin());
+  for (const auto& slot : joint_loops_) {
+    const auto local = std::find(slot.rig_indices.begin(), slot.rig_indices.end(), rig_index);
+    if (local != slot.rig_indices.end()) {
+      return slot.loop->request_home(static_cast<int>(local - slot.rig_indices.begin()));
+    }
+  }
+  return false;
+}
+
+std::uint64_t MainJob::homes_refused() const {
+  std::uint64_t refused = 0;
+  for (const auto& slot : joint_loops_) refused += slot.loop->homes_refused();
+  return refused;
+}
+
+std::string MainJob::last_refused_home() const {
+  for (const auto& slot : joint_loops_) {
+    const int local = slot.loop->last_refused_home();
+    if (local >= 0)
+      return joint_order_[static_cast<std::size_t>(
+          slot.rig_indices[static_cast<std::size_t>(local)])];
+  }
+  return "";
 }
 
 }  // namespace cambio::app

@@ -18,7 +18,9 @@ std::vector<CanGroupReport> can_group_reports(const hal::HardwareInfo& hardware,
   for (const auto& group : hardware.groups) {
     for (const canopen::CanJointGroup* can_group : can_groups) {
       if (can_group->info().name == group.name) {
-        reports.push_back({group.name, can_group->counters(), can_group->homing_records()});
+        const canopen::HomingError error = can_group->last_homing_error();
+        reports.push_back({group.name, can_group->counters(), can_group->homing_records(),
+                           error.node_id != 0 ? error.text.data() : ""});
       }
     }
   }

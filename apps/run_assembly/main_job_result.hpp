@@ -20,7 +20,9 @@ namespace cambio::app {
 struct CanGroupReport {
   std::string group;
   canopen::CanGroupCounters counters;
-  std::vector<canopen::HomingRecord> homing;  ///< The joints that homed at activate.
+  /// The joints that homed: at activate, then on request while the run went on.
+  std::vector<canopen::HomingRecord> homing;
+  std::string last_homing_error;  ///< Why the last homing on request failed; empty if none did.
 };
 
 /// What the experiment's behaviour did (MainJobResult::behaviour).

@@ -26,8 +26,13 @@ void print_device_counts(const MainJobResult& result) {
               << " error frames, " << c.tx_queue_full << " frames refused by a full queue, "
               << c.malformed_frames + c.unexpected_frames << " malformed/unexpected frames\n";
     for (const auto& homed : report.homing) {
-      std::cout << "  homing: joint " << homed.joint << " (node " << homed.node_id << ", method "
-                << homed.method << ") homed in " << homed.duration_s << " s\n";
+      std::cout << "  homing" << (homed.on_request ? " (on request)" : "") << ": joint "
+                << homed.joint << " (node " << homed.node_id << ", method " << homed.method
+                << ") homed in " << homed.duration_s << " s\n";
+    }
+    if (c.homing_failures > 0) {
+      std::cout << "  homing on request failed " << c.homing_failures
+                << " time(s), last: " << report.last_homing_error << "\n";
     }
   }
   if (result.fault_latched_at_end) {

@@ -121,7 +121,11 @@ Json can_group_json(const canopen::CanGroupCounters& c) {
           {"emergencies", c.emergencies},
           {"error_frames", c.error_frames},
           {"boot_ups", c.boot_ups},
-          {"receive_cap_reached", c.receive_cap_reached}};
+          {"receive_cap_reached", c.receive_cap_reached},
+          {"reconfigurations", c.reconfigurations},
+          {"reconfiguration_failures", c.reconfiguration_failures},
+          {"homings_on_request", c.homings},
+          {"homing_failures", c.homing_failures}};
 }
 
 /// The names of the loops that allocated in update() without declaring it.
@@ -139,15 +143,28 @@ void add_execution_fields(Json& json, const MainJobResult& result) {
   for (const auto& loop : result.loops) json["loops"].push_back(runtime::statistics_json(loop));
   for (const auto& report : result.can_groups) {
     json["can_groups"][report.group] = can_group_json(report.counters);
-    // Each joint that homed at activate: how long it took, the statuswords it went through.
+    // Each joint that homed at activate, and each homing on request in order: how long it took,
+    // the statuswords it went through.
     Json homing = Json::object();
+    Json on_request = Json::array();
     for (const auto& homed : report.homing) {
-      homing[homed.joint] = {{"node_id", homed.node_id},
-                             {"method", homed.method},
-                             {"duration_s", homed.duration_s},
-                             {"statuswords", homed.statuswords}};
+      Json entry = {{"node_id", homed.node_id},
+                    {"method", homed.method},
+                    {"duration_s", homed.duration_s},
+                    {"statuswords", homed.statuswords}};
+      if (homed.on_request) {
+        entry["joint"] = homed.joint;
+        on_request.push_back(std::move(entry));
+      } else {
+        homing[homed.joint] = std::move(entry);
+      }
     }
-    json["can_groups"][report.group]["homing"] = homing;
+    Json& group = json["can_groups"][report.group];
+    group["homing"] = std::move(homing);
+    group["homed_on_request"] = std::move(on_request);
+    if (!report.last_homing_error.empty()) {
+      group["last_homing_error"] = report.last_homing_error;
+    }
   }
   if (result.renderer) {
     add_renderer_fields(json["renderer"], *result.renderer);

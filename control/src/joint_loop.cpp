@@ -86,6 +86,7 @@ void JointLoop::activate() {
     offset += n;
   }
   pending_requests_.store(0);
+  pending_homes_.store(0);
   if (params_.rig_hold != nullptr) params_.rig_hold->set(rig_hold_slot_, false);
   reset_requested_ = false;
   enable_after_reset_ = false;
@@ -99,6 +100,28 @@ void JointLoop::deactivate() noexcept {
 
 void JointLoop::request(hal::DriveRequest request) noexcept {
   pending_requests_.fetch_or(bit_of(request), std::memory_order_acq_rel);
+}
+
+bool JointLoop::request_home(int joint) noexcept {
+  static_assert(kMaxJoints <= 64, "one bit per joint");
+  if (joint < 0 || joint >= joint_count_) return false;
+  pending_homes_.fetch_or(std::uint64_t{1} << joint, std::memory_order_acq_rel);
+  return true;
+}
+
+void JointLoop::forward_home(std::uint64_t joints) noexcept {
+  int first = 0;
+  for (hal::JointGroup* group : groups_) {
+    const auto n = static_cast<int>(group->info().joints.size());
+    for (int k = 0; k < n; ++k) {
+      if ((joints >> (first + k) & 1u) == 0) continue;
+      if (group->request(hal::DriveRequest::kHome, k) == hal::Status::kRejected) {
+        last_refused_home_.store(first + k, std::memory_order_relaxed);
+        homes_refused_.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    first += n;
+  }
 }
 
 void JointLoop::recover_if_asked(bool fault_latched, std::int64_t now_ns) noexcept {
@@ -142,6 +165,8 @@ void JointLoop::apply_requests(std::uint32_t pending) noexcept {
   if ((pending & bit_of(hal::DriveRequest::kDisable)) != 0) {
     forward(hal::DriveRequest::kDisable);
   }
+  // Before enable: a joint that must home is homed before anything drives it.
+  if ((pending & bit_of(hal::DriveRequest::kHome)) != 0) forward(hal::DriveRequest::kHome);
   if ((pending & bit_of(hal::DriveRequest::kEnable)) != 0) forward(hal::DriveRequest::kEnable);
 }
 
@@ -173,6 +198,8 @@ hal::Status JointLoop::read_groups(std::int64_t now_ns) noexcept {
   if (reset_requested_ && !any_fault_now) {
     std::fill(latched_bits_.begin(), latched_bits_.end(), 0u);
     reset_requested_ = false;
+    // Joints whose drive rebooted lost their reference: homed (if they home) before enabling.
+    if (params_.home_after_reboot) forward(hal::DriveRequest::kHome);
     if (enable_after_reset_) forward(hal::DriveRequest::kEnable);
     enable_after_reset_ = false;
   }
@@ -186,6 +213,9 @@ hal::Status JointLoop::read_groups(std::int64_t now_ns) noexcept {
 hal::Status JointLoop::update(const hal::LoopTick& tick) noexcept {
   if (const std::uint32_t pending = pending_requests_.exchange(0, std::memory_order_acq_rel)) {
     apply_requests(pending);
+  }
+  if (const std::uint64_t homes = pending_homes_.exchange(0, std::memory_order_acq_rel)) {
+    forward_home(homes);
   }
 
   // 1-2. Read, flag stale readings, latch faults, publish.

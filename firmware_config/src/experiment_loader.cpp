@@ -92,6 +92,7 @@ void read_fault_recovery(MapReader& experiment, ExperimentConfig& config) {
     r.after_s = recovery->number_or("after_s", r.after_s, Range::closed(0.0, 3600.0));
     r.max_recoveries = static_cast<int>(
         recovery->integer_or("max_recoveries", r.max_recoveries, Range::closed(0, 1000)));
+    r.home_after_reboot = recovery->boolean_or("home_after_reboot", r.home_after_reboot);
     recovery->finish();
   }
 }

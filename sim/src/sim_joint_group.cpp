@@ -39,6 +39,10 @@ hal::Status SimJointGroup::write(std::span<const hal::JointCommand> commands) {
 hal::Status SimJointGroup::request(hal::DriveRequest request, int joint) {
   const int count = static_cast<int>(info_.joints.size());
   if (joint != kAllJoints && (joint < 0 || joint >= count)) return hal::Status::kRejected;
+  // The sim's joints read absolute positions: none homes.
+  if (request == hal::DriveRequest::kHome) {
+    return joint == kAllJoints ? hal::Status::kOk : hal::Status::kRejected;
+  }
   const int first = joint == kAllJoints ? 0 : joint;
   const int last = joint == kAllJoints ? count : joint + 1;
   for (int k = first; k < last; ++k) {

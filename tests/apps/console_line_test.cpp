@@ -71,6 +71,8 @@ TEST(ConsoleCommand, EveryCommandParses) {
   const auto release = std::get<Gripper>(ok("release right"));
   EXPECT_FALSE(release.close);
   EXPECT_EQ(release.arm, Arm::kRight);
+  EXPECT_EQ(std::get<Home>(ok("home neck_pan")).joint, "neck_pan");
+  EXPECT_TRUE(std::get<Home>(ok("home")).joint.empty()) << "every joint that lost its reference";
 }
 
 TEST(ConsoleCommand, HelpOnSomethingThatIsNoCommandIsRefusedNotAnsweredBySilence) {
@@ -114,13 +116,14 @@ TEST(ConsoleCommand, BadArgumentsSayWhatWasExpected) {
   EXPECT_NE(error("reach point 0.5 0.1").find("expected Z (m)"), std::string::npos);
   EXPECT_NE(error("grasp both").find("left, right or nothing, found \"both\""), std::string::npos);
   EXPECT_NE(error("reach up").find("left, right or nothing, found \"up\""), std::string::npos);
+  EXPECT_NE(error("home pan tilt").find("nothing after pan, found \"tilt\""), std::string::npos);
 }
 
 TEST(ConsoleCommand, HelpListsEveryCommand) {
   const auto lines = help_lines();
-  EXPECT_EQ(lines.size(), 14U);
+  EXPECT_EQ(lines.size(), 15U);
   for (const char* name : {"help", "quit", "status", "wait", "move", "look", "saccade", "pursue",
-                           "hold", "verge", "reach", "grasp", "release", "ssm"}) {
+                           "hold", "verge", "reach", "grasp", "release", "home", "ssm"}) {
     bool found = false;
     for (const auto& line : lines) found = found || line.rfind(name, 0) == 0;
     EXPECT_TRUE(found) << name;

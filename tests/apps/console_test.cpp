@@ -251,6 +251,26 @@ TEST_F(ConsoleTest, ARefusalByTheLoopsFollowsItsLineEvenTheLastOne) {
   EXPECT_NE(r.output.find("1 lines refused"), std::string::npos) << r.output;
 }
 
+// `home JOINT` reaches the joint's group: the sim's joints read absolute positions, so the group
+// refuses, and the console says so after the cycle; `home` alone asks every joint that lost its
+// reference (none here) and is no refusal; a name that is no joint is refused at the line.
+TEST_F(ConsoleTest, HomingAJointWhoseDriveDoesNotHomeIsRefusedByItsGroup) {
+  const CommandResult r = console(
+      "home neck_pan\n"
+      "home\n"
+      "home elbow\n"
+      "quit\n");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("homing neck_pan\nrefused: joint \"neck_pan\" does not home"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("homing every joint that lost its reference"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("refused: \"elbow\" is not a joint of the rig"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("(2 lines refused)"), std::string::npos) << r.output;
+}
+
 TEST_F(ConsoleTest, AnExperimentWithoutTheGazeTaskIsRefusedBeforeAnythingRuns) {
   const CommandResult r = console("status\n", "", "pan_tilt_hold");
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -74,6 +74,11 @@ class FakeJointGroup final : public hal::JointGroup {
   }
   hal::Status request(hal::DriveRequest request, int joint) override {
     requests.push_back(request);
+    request_joints.push_back(joint);
+    if (request == hal::DriveRequest::kHome && joint != kAllJoints &&
+        static_cast<std::size_t>(joint) >= homes.size()) {
+      return hal::Status::kRejected;
+    }
     for (std::size_t j = 0; j < drive.size(); ++j) {
       if (joint == kAllJoints || static_cast<std::size_t>(joint) == j) pending[j] = request;
     }
@@ -102,6 +107,9 @@ class FakeJointGroup final : public hal::JointGroup {
   std::array<bool, 2> frozen{};
   std::array<hal::JointCommand, 2> last{};
   std::vector<hal::DriveRequest> requests;
+  std::vector<int> request_joints;  ///< The joint of each request (kAllJoints: every joint).
+  /// The joints that home (a kHome for another joint is refused): the first `homes.size()`.
+  std::vector<int> homes = {0, 1};
   std::string calls;
 
  private:
@@ -122,6 +130,7 @@ struct Fixture {
       : group("head", initial) {
     group.calls.reserve(1 << 16);
     group.requests.reserve(64);
+    group.request_joints.reserve(64);
     loop.configure();
     loop.activate();
   }
@@ -319,6 +328,58 @@ TEST(JointLoop, AFaultLatchesHoldsEveryJointUntilResetThenReenablesAtTheMeasured
   EXPECT_NEAR(tilt_sent[first_enabled], at_fault[1] - 0.002, 1e-12)
       << "first target after enable is the measured position, then one ramp step";
   EXPECT_LT(f.group.position[0], at_fault[0]) << "motion resumed";
+}
+
+// A console's `home JOINT`: the joint's own group is asked, with the joint's index in it, at the
+// next cycle; a joint that does not home is refused by its group and the loop counts it.
+TEST(JointLoop, AHomeRequestReachesTheJointsGroupWithItsIndexAtTheNextCycle) {
+  Fixture f;
+  f.group.homes = {0};  // Only the pan homes.
+  f.tick(0);
+  const std::size_t before = f.group.requests.size();
+  EXPECT_TRUE(f.loop.request_home(1));
+  EXPECT_TRUE(f.loop.request_home(0));
+  EXPECT_FALSE(f.loop.request_home(2)) << "the loop has two joints";
+  EXPECT_FALSE(f.loop.request_home(-1));
+  EXPECT_EQ(f.group.requests.size(), before) << "nothing before the next cycle";
+  f.tick(1);
+  ASSERT_EQ(f.group.requests.size(), before + 2);
+  EXPECT_EQ(f.group.requests[before], hal::DriveRequest::kHome);
+  EXPECT_EQ(f.group.request_joints[before], 0);
+  EXPECT_EQ(f.group.request_joints[before + 1], 1);
+  EXPECT_EQ(f.loop.homes_refused(), 1u);
+  EXPECT_EQ(f.loop.last_refused_home(), 1);
+  f.tick(2);
+  EXPECT_EQ(f.group.requests.size(), before + 2) << "asked once";
+}
+
+/// The requests a loop with `home_after_reboot` forwards after a fault and a reset + enable.
+std::vector<hal::DriveRequest> requests_after_reset(bool home_after_reboot) {
+  JointLoopParams params = kParams;
+  params.home_after_reboot = home_after_reboot;
+  FakeJointGroup group;
+  hal::SeqlockChannel<JointTargetFrame> targets;
+  hal::SeqlockChannel<JointStateFrame> states;
+  JointLoop loop({&group}, targets, states, params);
+  loop.configure();
+  loop.activate();
+  for (std::uint64_t k = 0; k < 5; ++k) (void)loop.update({k, 0, 0, 1e-3});
+  group.fault(0, 0x8130);
+  for (std::uint64_t k = 5; k < 10; ++k) (void)loop.update({k, 0, 0, 1e-3});
+  const std::size_t from = group.requests.size();
+  loop.request(hal::DriveRequest::kFaultReset);
+  loop.request(hal::DriveRequest::kEnable);
+  for (std::uint64_t k = 10; k < 20; ++k) (void)loop.update({k, 0, 0, 1e-3});
+  return {group.requests.begin() + static_cast<std::ptrdiff_t>(from), group.requests.end()};
+}
+
+// A drive that rebooted lost its homing reference: with fault_recovery.home_after_reboot the
+// reset's enable is preceded by a home request for every joint (the group homes those that lost
+// their reference); without it, no homing is asked and such a joint stays disabled.
+TEST(JointLoop, AfterAResetJointsAreAskedToHomeBeforeEnableOnlyWhenTheExperimentAsks) {
+  using R = hal::DriveRequest;
+  EXPECT_EQ(requests_after_reset(true), (std::vector<R>{R::kFaultReset, R::kHome, R::kEnable}));
+  EXPECT_EQ(requests_after_reset(false), (std::vector<R>{R::kFaultReset, R::kEnable}));
 }
 
 // experiment.fault_recovery: after holding fault_recovery_delay_s the loop itself asks a reset and

@@ -125,6 +125,23 @@ TEST(ExperimentLimits, DurationIsBoundedWithItsReason) {
 // ---------------------------------------------------------------------------------------------
 // ros2
 
+TEST(ExperimentFaultRecovery, HomingAfterARebootIsOffUnlessAskedAndABadValueIsRefusedAtItsKey) {
+  const std::string rig = test::shipped_rig_path("pan_tilt.yaml");
+  EXPECT_FALSE(load_experiment_from_string(experiment_text(rig), "/tmp/e.yaml")
+                   .fault_recovery.home_after_reboot);
+  const ExperimentConfig config = load_experiment_from_string(
+      experiment_text(rig, "  fault_recovery: {max_recoveries: 2, home_after_reboot: true}\n"),
+      "/tmp/e.yaml");
+  EXPECT_TRUE(config.fault_recovery.home_after_reboot);
+  EXPECT_EQ(config.fault_recovery.max_recoveries, 2);
+  const auto issues =
+      experiment_issues(experiment_text(rig, "  fault_recovery: {home_after_reboot: sometimes}\n"));
+  ASSERT_EQ(issues.size(), 1u) << joined(issues);
+  EXPECT_NE(issues[0].find("experiment.fault_recovery.home_after_reboot: expected true or false"),
+            std::string::npos)
+      << issues[0];
+}
+
 TEST(ExperimentRos2, AbsentMeansNoBridgeAndGivenKeysKeepTheOthersDefaults) {
   const std::string rig = test::shipped_rig_path("pan_tilt.yaml");
   EXPECT_FALSE(load_experiment_from_string(experiment_text(rig), "/tmp/e.yaml").ros2);

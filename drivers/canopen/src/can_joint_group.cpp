@@ -59,11 +59,12 @@ CanJointGroup::CanJointGroup(hal::JointGroupInfo info, CanGroupSettings settings
     slot.heartbeat = HeartbeatConsumer(heartbeat_ns);
     slot.drive.set_torque_units({0.0, drive.gear_ratio});
     slot.must_home = drive.homing.has_value();
+    if (drive.homing) slot.homing = *drive.homing;
     slots_.push_back(slot);
   }
   // RPDO1 (and RPDO2 when mapped) per drive, then SYNC.
   const std::size_t per_drive = layout_.rpdos[1].empty() ? 1 : 2;
-  // One more for the reconfiguration's SDO request or NMT start.
+  // One more for the reconfiguration's or the homing's SDO request (or NMT start).
   tx_.resize(slots_.size() * per_drive + 2);
 }
 
@@ -85,6 +86,32 @@ void CanJointGroup::set_configuration(std::size_t joint, std::span<const ObjectW
 void CanJointGroup::set_homed(std::size_t joint, HomingRecord record) {
   slots_[joint].homed = true;
   homing_records_.push_back(std::move(record));
+}
+
+std::vector<HomingRecord> CanJointGroup::homing_records() const {
+  std::vector<HomingRecord> records = homing_records_;
+  for (std::size_t i = 0; i < std::min(loop_homing_count_, loop_homings_.size()); ++i) {
+    const LoopHoming& homed = loop_homings_[i];
+    const Slot& slot = slots_[homed.joint];
+    HomingRecord record;
+    record.joint = info_.joints[homed.joint];
+    record.node_id = slot.drive.node_id();
+    record.method = slot.homing.method;
+    record.duration_s = homed.duration_s;
+    record.statuswords.assign(
+        homed.statuswords.begin(),
+        homed.statuswords.begin() + static_cast<std::ptrdiff_t>(homed.statusword_count));
+    record.feedback = homed.feedback;
+    record.on_request = true;
+    records.push_back(std::move(record));
+  }
+  return records;
+}
+
+HomingError CanJointGroup::last_homing_error() const {
+  HomingError error;
+  (void)last_homing_error_.read(error);
+  return error;
 }
 
 ReconfigurationError CanJointGroup::last_reconfiguration_error() const {
@@ -143,8 +170,12 @@ void CanJointGroup::run_reconfiguration(std::int64_t now_ns) {
       reconfiguring_ = -1;
     }
   }
-  // One at a time, and not while the bus is off or a failed run's abort is still to go out.
-  if (reconfiguring_ >= 0 || bus_fault_ || reconfiguration_.has_pending()) return;
+  // One at a time, never beside a homing, and not while the bus is off or a failed run's abort
+  // is still to go out.
+  if (reconfiguring_ >= 0 || bus_fault_ || reconfiguration_.has_pending() || homing_joint_ >= 0 ||
+      homing_.has_pending()) {
+    return;
+  }
   for (std::size_t k = 0; k < slots_.size(); ++k) {
     Slot& slot = slots_[k];
     if (!slot.reconfiguration_requested) continue;
@@ -161,6 +192,66 @@ void CanJointGroup::run_reconfiguration(std::int64_t now_ns) {
     }
     reconfiguration_.start(slot.drive.node_id(), slot.configuration, sdo_timeout_ns_, now_ns);
     reconfiguring_ = static_cast<int>(k);
+    return;
+  }
+}
+
+const hal::CanFrame* CanJointGroup::extra_frame() const {
+  if (reconfiguration_.has_pending()) return &reconfiguration_.pending_frame();
+  if (homing_.has_pending()) return &homing_.pending_frame();
+  return nullptr;
+}
+
+void CanJointGroup::run_homing(std::int64_t now_ns) {
+  if (homing_joint_ >= 0) {
+    const auto joint = static_cast<std::size_t>(homing_joint_);
+    Slot& slot = slots_[joint];
+    if (homing_.running()) {
+      if (slot.answered) homing_.on_statusword(slot.drive.feedback().statusword, now_ns);
+      homing_.poll(now_ns);
+      if (hold_latched_ || bus_fault_) homing_.stop(HomingFailure::kStopped, now_ns);
+    }
+    if (homing_.state() == HomingSequencer::State::kDone) {
+      slot.homed = true;
+      if (loop_homing_count_ < loop_homings_.size()) {
+        LoopHoming& record = loop_homings_[loop_homing_count_];
+        record.joint = joint;
+        record.duration_s = homing_.duration_s();
+        const auto words = homing_.statuswords();
+        std::copy(words.begin(), words.end(), record.statuswords.begin());
+        record.statusword_count = words.size();
+        record.feedback = slot.drive.feedback();
+      }
+      ++loop_homing_count_;
+      bump(counters_.homings);
+      homing_joint_ = -1;
+    } else if (homing_.state() == HomingSequencer::State::kFailed) {
+      // Stays unhomed: disabled, never driven, until homed again.
+      last_homing_error_.write(homing_.error());
+      bump(counters_.homing_failures);
+      homing_joint_ = -1;
+    }
+  }
+  if (homing_joint_ >= 0 || reconfiguring_ >= 0 || reconfiguration_.has_pending() ||
+      homing_.has_pending() || hold_latched_ || bus_fault_) {
+    return;  // A homing asked while the group holds waits for the hold to end.
+  }
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    Slot& slot = slots_[k];
+    if (!slot.home_requested) continue;
+    slot.home_requested = false;
+    slot.homed = false;  // Its reference is being redefined: not driven until done.
+    const auto homing_timeout_ns =
+        static_cast<std::int64_t>(std::llround(slot.homing.timeout_s * 1e9));
+    // A state change or an SDO answer: the SDO timeout, and at least 20 cycles.
+    const std::int64_t step_timeout_ns =
+        std::max(sdo_timeout_ns_, static_cast<std::int64_t>(std::llround(20e9 / rate_hz_)));
+    homing_.start(slot.drive.node_id(), slot.homing.method, homing_timeout_ns, step_timeout_ns,
+                  slot.drive.mode() == hal::CommandMode::kPosition
+                      ? cia402::Mode::kCyclicSynchronousPosition
+                      : cia402::Mode::kCyclicSynchronousVelocity,
+                  now_ns);
+    homing_joint_ = static_cast<int>(k);
     return;
   }
 }
@@ -224,6 +315,8 @@ void CanJointGroup::dispatch(const hal::CanFrame& frame, std::int64_t now_ns) {
     case 0x580:
       if (reconfiguring_ == index) {
         reconfiguration_.on_frame(frame, now_ns);
+      } else if (homing_joint_ == index) {
+        homing_.on_sdo_frame(frame, now_ns);
       } else {
         bump(counters_.unexpected_frames);
       }
@@ -238,6 +331,7 @@ void CanJointGroup::dispatch(const hal::CanFrame& frame, std::int64_t now_ns) {
         bump(counters_.boot_ups);
         slot.homed = false;  // A drive that restarted has lost its reference.
         if (reconfiguring_ == index) reconfiguration_.fail("booted again while being configured");
+        if (homing_joint_ == index) homing_.on_boot_up(now_ns);
       }
       slot.heartbeat.on_heartbeat(*state, stamp_ns);
       return;
@@ -282,6 +376,7 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
     hold_latched_ = false;
     reset_pending_ = false;
   }
+  run_homing(now_ns);
 
   hal::Status status = hal::Status::kOk;
   stamp_ns = 0;
@@ -305,6 +400,7 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
       bits |= hal::kJointCommLost;
     }
     if (slot.missed_syncs >= stale_after_syncs_) bits |= hal::kJointStale;
+    if (homing_joint_ == static_cast<int>(k)) bits |= hal::kJointHoming | hal::kJointNotEnabled;
     state.status_bits = bits;
     if ((bits & hal::kJointLatchingBits) != 0) status = hal::Status::kFault;
     stamp_ns = std::max(stamp_ns, slot.stamp_ns);
@@ -314,7 +410,8 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
 
 void CanJointGroup::build_rpdos(bool use_commands) {
   tx_count_ = 0;
-  for (Slot& slot : slots_) {
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    Slot& slot = slots_[k];
     hal::JointCommand command = slot.command;
     if (!use_commands) {
       // No write() this cycle: hold where the joint is.
@@ -323,7 +420,13 @@ void CanJointGroup::build_rpdos(bool use_commands) {
                  0.0, 0.0};
     }
     const bool unhomed = slot.must_home && !slot.homed;
-    const DriveTargets targets = slot.drive.next_targets(command, hold_latched_, unhomed);
+    DriveTargets targets = slot.drive.next_targets(command, hold_latched_, unhomed);
+    if (homing_joint_ == static_cast<int>(k)) {
+      // The homing's controlword; in mode 6 the drive moves itself, the target is not used.
+      targets = {};
+      targets.controlword = homing_.controlword();
+      targets.target_position_counts = slot.drive.feedback().position_counts;
+    }
     const auto value_of = [&targets](ObjectAddress object) { return raw_target(targets, object); };
     pack_pdo(layout_.rpdos[0], rpdo_cob_id(1, slot.drive.node_id()), value_of, tx_[tx_count_++]);
     if (!layout_.rpdos[1].empty()) {
@@ -332,7 +435,7 @@ void CanJointGroup::build_rpdos(bool use_commands) {
   }
   tx_[tx_count_++] = sync_frame();
   // After SYNC: the cycle's PDOs keep their timing.
-  if (reconfiguration_.has_pending()) tx_[tx_count_++] = reconfiguration_.pending_frame();
+  if (const hal::CanFrame* extra = extra_frame()) tx_[tx_count_++] = *extra;
 }
 
 hal::Status CanJointGroup::write(std::span<const hal::JointCommand> commands) {
@@ -353,10 +456,16 @@ hal::Status CanJointGroup::sync() {
   written_ = false;
   const std::size_t sent = bus_.send_batch(std::span(tx_).first(tx_count_));
   const std::int64_t now_ns = clock_.now_ns();
-  const bool with_sdo = reconfiguration_.has_pending();
+  const bool with_sdo = extra_frame() != nullptr;
   const std::size_t sync_count = tx_count_ - (with_sdo ? 1 : 0);
   // A pending frame that did not go out is offered again next cycle.
-  if (with_sdo && sent == tx_count_) reconfiguration_.on_sent(now_ns);
+  if (with_sdo && sent == tx_count_) {
+    if (reconfiguration_.has_pending()) {
+      reconfiguration_.on_sent(now_ns);
+    } else {
+      homing_.on_sent();
+    }
+  }
   if (sent < sync_count) {
     check_bus();
     if (bus_fault_) return hal::Status::kFault;
@@ -375,6 +484,18 @@ hal::Status CanJointGroup::request(hal::DriveRequest request, int joint) {
   if (joint != kAllJoints && (joint < 0 || joint >= count)) return hal::Status::kRejected;
   const int first = joint == kAllJoints ? 0 : joint;
   const int last = joint == kAllJoints ? count : joint + 1;
+  if (request == hal::DriveRequest::kHome) {
+    if (joint != kAllJoints && !slots_[static_cast<std::size_t>(joint)].must_home) {
+      return hal::Status::kRejected;  // Its encoder is absolute: nothing to home.
+    }
+    for (int k = first; k < last; ++k) {
+      Slot& slot = slots_[static_cast<std::size_t>(k)];
+      // Every joint: those that lost (or never had) their reference; one joint: again.
+      const bool wanted = joint != kAllJoints || !slot.homed;
+      if (slot.must_home && wanted && homing_joint_ != k) slot.home_requested = true;
+    }
+    return hal::Status::kOk;
+  }
   for (int k = first; k < last; ++k) {
     Slot& slot = slots_[static_cast<std::size_t>(k)];
     slot.drive.request(request);
@@ -411,7 +532,9 @@ CanGroupCounters CanJointGroup::counters() const {
           load(counters_.bus_faults),
           load(counters_.reconfigurations),
           load(counters_.reconfiguration_failures),
-          load(counters_.receive_cap_reached)};
+          load(counters_.receive_cap_reached),
+          load(counters_.homings),
+          load(counters_.homing_failures)};
 }
 
 std::size_t CanJointGroup::shutdown_frames(std::uint16_t controlword,

@@ -167,6 +167,12 @@ const char* to_string(HomingFailure failure) {
       return "drive rebooted while homing";
     case HomingFailure::kNotEnabled:
       return "drive not enabled for homing";
+    case HomingFailure::kNotDisabled:
+      return "drive did not disable around homing";
+    case HomingFailure::kSdoFailed:
+      return "mode change over SDO failed";
+    case HomingFailure::kStopped:
+      return "stopped: the group holds or the bus is down";
   }
   return "homing failed";
 }

@@ -147,19 +147,11 @@ void NodeReconfiguration::finish_step(std::int64_t now_ns) {
 }
 
 void NodeReconfiguration::fail_sdo() {
-  const ObjectAddress object = client_.object();
-  const std::uint32_t code = client_.abort_code();
-  const std::string_view name = sdo_abort_name(code);
-  const char* how = client_.failure() == SdoClient::Failure::kServerAbort ? "aborted by the drive"
-                    : client_.failure() == SdoClient::Failure::kTimeout
-                        ? "not answered in time"
-                        : "aborted by the master on a bad answer";
-  std::snprintf(error_.text.data(), error_.text.size(),
-                "node %d: SDO %s 0x%04X:%02X %s: 0x%08X (%.*s)", client_.node_id(),
-                client_.is_upload() ? "upload of" : "download to",
-                static_cast<unsigned>(object.index), static_cast<unsigned>(object.subindex), how,
-                code, static_cast<int>(name.size()), name.data());
-  error_.abort_code = code;
+  std::array<char, 160> failure{};
+  client_.describe_failure(failure);
+  std::snprintf(error_.text.data(), error_.text.size(), "node %d: %s", client_.node_id(),
+                failure.data());
+  error_.abort_code = client_.abort_code();
   state_ = State::kFailed;
 }
 

@@ -1,6 +1,7 @@
 #include "cambio/canopen/sdo_client.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace cambio::canopen {
 
@@ -231,6 +232,18 @@ bool SdoClient::abort(std::uint32_t code, hal::CanFrame& reply) {
   put_address(reply, object_);
   put_le(reply.data, 4, 4, code);
   return true;
+}
+
+void SdoClient::describe_failure(std::span<char> out) const {
+  if (out.empty()) return;
+  const std::string_view name = sdo_abort_name(abort_code_);
+  const char* how = failure_ == Failure::kServerAbort ? "aborted by the drive"
+                    : failure_ == Failure::kTimeout   ? "not answered in time"
+                                                      : "aborted by the master on a bad answer";
+  std::snprintf(out.data(), out.size(), "SDO %s 0x%04X:%02X %s: 0x%08X (%.*s)",
+                upload_ ? "upload of" : "download to", static_cast<unsigned>(object_.index),
+                static_cast<unsigned>(object_.subindex), how, abort_code_,
+                static_cast<int>(name.size()), name.data());
 }
 
 }  // namespace cambio::canopen

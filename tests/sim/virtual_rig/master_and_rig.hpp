@@ -20,6 +20,7 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/hal/manual_clock.hpp"
+#include "cambio/runtime/allocation_counter.hpp"
 #include "cambio/virtual_rig/virtual_rig.hpp"
 
 namespace cambio::virtual_rig::test {
@@ -103,12 +104,14 @@ struct MasterAndRig {
   hal::Status cycle(const std::vector<hal::JointCommand>* commands = nullptr) {
     clock.advance_to_ns(next_cycle_ns);
     next_cycle_ns += period_ns;
+    const std::uint64_t allocations_before = runtime::thread_allocation_count();
     const hal::Status status = group->read(states, stamp_ns);
     sent_at_read = sent.size();
-    if (commands != nullptr) {
-      EXPECT_EQ(group->write(*commands), hal::Status::kOk);
-    }
-    EXPECT_EQ(group->sync(), hal::Status::kOk);
+    const hal::Status written = commands != nullptr ? group->write(*commands) : hal::Status::kOk;
+    const hal::Status synced = group->sync();
+    group_allocations += runtime::thread_allocation_count() - allocations_before;
+    EXPECT_EQ(written, hal::Status::kOk);
+    EXPECT_EQ(synced, hal::Status::kOk);
     let_drives_answer();
     return status;
   }
@@ -154,6 +157,9 @@ struct MasterAndRig {
   std::vector<hal::JointState> states = std::vector<hal::JointState>(2);
   std::int64_t stamp_ns = 0;
   std::size_t sent_at_read = 0;  ///< Frames in `sent` when the last read() returned.
+  /// What the group's read/write/sync allocated, over every cycle() (reserve `sent` first: the
+  /// recording of the master's frames grows it inside sync()).
+  std::uint64_t group_allocations = 0;
   /// Called each time the drives answered (a test's event: a drive that reboots, say).
   std::function<void()> on_answer;
 };

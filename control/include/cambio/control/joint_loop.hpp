@@ -36,6 +36,10 @@ struct JointLoopParams {
   /// `max_fault_recoveries` times per run. 0 recoveries (the default): a fault holds to the end.
   double fault_recovery_delay_s = 0.5;
   int max_fault_recoveries = 0;
+  /// After a fault reset, every joint that must home and lost its reference (its drive
+  /// rebooted) homes again before it is enabled. Off: such a joint stays disabled until homed on
+  /// request (request_home).
+  bool home_after_reboot = false;
 };
 
 /// The fast loop next to the hardware (1 kHz by default). Each cycle, in this order:
@@ -72,6 +76,14 @@ class JointLoop final : public hal::Loop {
   /// asked together with it is sent only then (a drive takes one request at a time).
   /// Thread-safe, wait-free (any thread: the decision layer, a console, a test).
   void request(hal::DriveRequest request) noexcept;
+  /// Asks joint `joint` (this loop's order) to home again (hal::DriveRequest::kHome), at the
+  /// start of the next cycle. Returns false for a joint outside the loop. Thread-safe,
+  /// wait-free. Whether the joint homes at all is its group's to say: one that does not refuses.
+  bool request_home(int joint) noexcept;
+  /// request_home() calls the joint's group refused (it does not home), and the last such joint
+  /// (this loop's order; -1: none).
+  std::uint64_t homes_refused() const { return homes_refused_.load(std::memory_order_relaxed); }
+  int last_refused_home() const { return last_refused_home_.load(std::memory_order_relaxed); }
 
   int joint_count() const { return joint_count_; }
   /// Cycles in which the watchdog held the joints because targets went stale (or came malformed)
@@ -98,6 +110,7 @@ class JointLoop final : public hal::Loop {
   void apply_requests(std::uint32_t pending) noexcept;
   hal::Status read_groups(std::int64_t now_ns) noexcept;
   void forward(hal::DriveRequest request) noexcept;
+  void forward_home(std::uint64_t joints) noexcept;
   /// Asks a fault reset and enable when a latch has lasted fault_recovery_delay_s (and
   /// recoveries remain).
   void recover_if_asked(bool fault_latched, std::int64_t now_ns) noexcept;
@@ -118,6 +131,9 @@ class JointLoop final : public hal::Loop {
   JointStateFrame state_frame_{};
   int rig_hold_slot_ = 0;
   std::atomic<std::uint32_t> pending_requests_{0};  // Bit per hal::DriveRequest.
+  std::atomic<std::uint64_t> pending_homes_{0};     // Bit per joint (request_home).
+  std::atomic<std::uint64_t> homes_refused_{0};
+  std::atomic<int> last_refused_home_{-1};
   bool reset_requested_ = false;     // Clear the latches once the drives report no fault.
   bool enable_after_reset_ = false;  // Then ask them to enable.
   std::atomic<std::uint64_t> stale_cycles_{0};

@@ -28,10 +28,13 @@ enum class ControlTask : std::uint8_t {
 
 /// What the run does when a drive fault or a lost drive is latched (`fault_recovery:`): by
 /// default it holds to the end and exits 3; with recoveries, after holding `after_s` it asks a
-/// fault reset and re-enables the drives where they stand, at most `max_recoveries` times.
+/// fault reset and re-enables the drives where they stand, at most `max_recoveries` times. With
+/// `home_after_reboot`, a joint that homes and whose drive rebooted (its reference lost) homes
+/// again before it is enabled; without, it stays disabled until homed on request.
 struct FaultRecoveryConfig {
   double after_s = 0.5;
   int max_recoveries = 0;
+  bool home_after_reboot = false;
 };
 
 /// The run as a ROS 2 node (`ros2:`): what it publishes over DDS (Cyclone, configured by its own

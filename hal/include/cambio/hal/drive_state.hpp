@@ -28,6 +28,11 @@ enum class DriveRequest : std::uint8_t {
   kDisable,     ///< To switch-on disabled (torque off).
   kQuickStop,   ///< Brake on the quick-stop ramp and hold (quick stop active).
   kFaultReset,  ///< Clear a latched fault: fault -> switch-on disabled (re-enable separately).
+  /// Run the drive's homing (a joint whose encoder reference is not absolute). For one joint:
+  /// home it again, refused (kRejected) if it does not home; for every joint: home those that
+  /// must and have not since their drive booted. Homing ends disabled at the homed position; the
+  /// standing enable request then enables it there. Joints that never home ignore it.
+  kHome,
 };
 
 constexpr bool is_enabled(DriveState state) {
@@ -70,6 +75,8 @@ constexpr std::string_view to_string(DriveRequest request) {
       return "quick stop";
     case DriveRequest::kFaultReset:
       return "fault reset";
+    case DriveRequest::kHome:
+      return "home";
   }
   return "unknown";
 }
@@ -108,6 +115,8 @@ constexpr DriveState next_drive_state(DriveState state, DriveRequest request) {
                                                     : state;
     case DriveRequest::kFaultReset:
       return state == DriveState::kFault ? DriveState::kSwitchOnDisabled : state;  // 15.
+    case DriveRequest::kHome:
+      return state;  // A sequence of its own (mode 6), not a state transition.
   }
   return state;
 }

@@ -25,7 +25,7 @@ struct JointLimits {
 ///  - the backend: kJointCommandClamped, kJointAtLimit, kJointFault (drive in fault or fault
 ///    reaction), kJointNotEnabled (drive not operation enabled), kJointCommLost (heartbeat or
 ///    feedback frames missed; sticky until a fault reset), kJointStale where it can tell
-///    (a CAN group after missed SYNC answers);
+///    (a CAN group after missed SYNC answers), kJointHoming;
 ///  - the joint loop: kJointStale when a reading's stamp is older than its feedback timeout, and
 ///    it latches kJointFault and kJointCommLost until a fault reset clears them.
 enum JointStatusBits : std::uint32_t {
@@ -36,6 +36,9 @@ enum JointStatusBits : std::uint32_t {
   kJointStale = 1u << 3,           ///< The reading is older than the freshness bound.
   kJointNotEnabled = 1u << 4,      ///< The drive is not in its operation-enabled state.
   kJointCommLost = 1u << 5,        ///< Heartbeat or feedback missed (sticky until reset).
+  /// The drive is homing (DriveRequest::kHome): not driven, its position not yet in the homed
+  /// frame. Set with kJointNotEnabled.
+  kJointHoming = 1u << 6,
 };
 
 /// Bits after which the joint loop stops sending motion to the whole rig until a reset.

@@ -14,7 +14,9 @@
 // (node_reconfiguration.hpp), one SDO exchange per cycle; such a drive is enabled again only by a
 // later enable request, at its measured position. A joint whose rig sets homing is kept disabled
 // (controlword 0, target its measured position) until it has homed (set_homed), and again once
-// its drive reboots: its reference is gone.
+// its drive reboots: its reference is gone. A kHome request homes joints again while the loop
+// runs (homing_sequencer.hpp), one drive at a time, never beside a reconfiguration; the joint
+// reports kJointHoming and is not driven until homing ends and it is enabled at its new position.
 // The group is the bus's SYNC producer: one CAN group per bus.
 // read/write/sync/request: no allocation, no lock, no blocking, one send system call per cycle.
 
@@ -27,6 +29,7 @@
 #include "cambio/canopen/cia402_drive.hpp"
 #include "cambio/canopen/emcy_consumer.hpp"
 #include "cambio/canopen/homing.hpp"
+#include "cambio/canopen/homing_sequencer.hpp"
 #include "cambio/canopen/nmt_master.hpp"
 #include "cambio/canopen/node_reconfiguration.hpp"
 #include "cambio/canopen/pdo_layout.hpp"
@@ -56,6 +59,8 @@ struct CanGroupCounters {
   /// Cycles whose read() stopped at max_frames_per_read(): the frames still queued wait for the
   /// next cycle (a flooded bus cannot hold the joint loop).
   std::uint64_t receive_cap_reached = 0;
+  std::uint64_t homings = 0;          ///< Loop-side homings that completed (kHome requests).
+  std::uint64_t homing_failures = 0;  ///< Loop-side homings that failed (last_homing_error()).
 };
 
 class CanJointGroup final : public hal::JointGroup {
@@ -104,9 +109,15 @@ class CanJointGroup final : public hal::JointGroup {
   /// Whether the joint must home and has (always true for a joint that does not home). Loop
   /// thread, or before the loops start.
   bool homed(std::size_t joint) const { return !slots_[joint].must_home || slots_[joint].homed; }
-  /// How each joint's homing went (joints that homed, in the order they did). Read it once the
-  /// loops stopped.
-  const std::vector<HomingRecord>& homing_records() const { return homing_records_; }
+  /// How each joint's homing went (at activate, then on kHome requests, in the order they
+  /// completed; loop-side homings beyond kMaxLoopHomings are counted, not kept). Read it once
+  /// the loops stopped.
+  std::vector<HomingRecord> homing_records() const;
+  static constexpr std::size_t kMaxLoopHomings = 32;
+  /// Why the last loop-side homing failed (node_id 0: none failed). Thread-safe.
+  HomingError last_homing_error() const;
+  /// The joint's drive is homing on the loop side (loop thread).
+  bool homing(std::size_t joint) const { return homing_joint_ == static_cast<int>(joint); }
   /// Starts watching heartbeats and SYNC answers (activate()).
   void arm(std::int64_t now_ns);
   /// Drives that sent a boot-up since arm(): their configuration is gone until replayed.
@@ -133,6 +144,16 @@ class CanJointGroup final : public hal::JointGroup {
     std::uint32_t clamped_bits = 0;
     bool must_home = false;  ///< The rig sets homing for this joint.
     bool homed = false;      ///< Homed since the drive last booted.
+    bool home_requested = false;
+    HomingSettings homing{};  ///< The rig's homing (must_home).
+  };
+  /// A loop-side homing that completed, kept without allocating.
+  struct LoopHoming {
+    std::size_t joint = 0;
+    double duration_s = 0.0;
+    std::array<std::uint16_t, HomingSequencer::kMaxStatuswords> statuswords{};
+    std::size_t statusword_count = 0;
+    DriveFeedback feedback{};
   };
 
   void dispatch(const hal::CanFrame& frame, std::int64_t now_ns);
@@ -140,6 +161,9 @@ class CanJointGroup final : public hal::JointGroup {
   bool faulted_or_lost(const Slot& slot) const;
   void check_bus();
   void run_reconfiguration(std::int64_t now_ns);
+  void run_homing(std::int64_t now_ns);
+  /// The SDO frame of a reconfiguration or a homing to carry after SYNC, if any (never both).
+  const hal::CanFrame* extra_frame() const;
   void build_rpdos(bool use_commands);
   static void bump(std::atomic<std::uint64_t>& counter, std::uint64_t by = 1) {
     counter.store(counter.load(std::memory_order_relaxed) + by, std::memory_order_relaxed);
@@ -166,13 +190,18 @@ class CanJointGroup final : public hal::JointGroup {
   int reconfiguring_ = -1;  ///< The joint being reconfigured, or -1.
   std::int64_t sdo_timeout_ns_ = 0;
   hal::SeqlockChannel<ReconfigurationError> last_error_;
-  std::vector<HomingRecord> homing_records_;
+  std::vector<HomingRecord> homing_records_;  ///< At activate (set_homed).
+  HomingSequencer homing_;
+  int homing_joint_ = -1;  ///< The joint homing on the loop side, or -1.
+  std::array<LoopHoming, kMaxLoopHomings> loop_homings_{};
+  std::size_t loop_homing_count_ = 0;
+  hal::SeqlockChannel<HomingError> last_homing_error_;
 
   struct AtomicCounters {
     std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},
         late_tpdos{0}, malformed_frames{0}, unexpected_frames{0}, tx_queue_full{0}, emergencies{0},
         error_frames{0}, boot_ups{0}, bus_faults{0}, reconfigurations{0},
-        reconfiguration_failures{0}, receive_cap_reached{0};
+        reconfiguration_failures{0}, receive_cap_reached{0}, homings{0}, homing_failures{0};
   } counters_;
 };
 

@@ -249,6 +249,10 @@ constexpr std::uint16_t controlword_toward(hal::DriveState state, hal::DriveRequ
                  ? kControlFaultReset  // Keep the bit high.
                  : ((previous == kControlDisableVoltage) ? kControlFaultReset
                                                          : kControlDisableVoltage);
+
+    case DriveRequest::kHome:
+      // Never a drive's standing request: homing_sequencer.hpp writes its own controlwords.
+      return kControlDisableVoltage;
   }
   return kControlDisableVoltage;
 }

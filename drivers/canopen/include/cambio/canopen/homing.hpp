@@ -31,6 +31,8 @@ struct HomingRecord {
   std::vector<std::uint16_t> statuswords;
   /// The drive after homing: switch on disabled, its position in the homed frame.
   DriveFeedback feedback;
+  /// Homed while the loop ran (a kHome request), not at activate.
+  bool on_request = false;
 };
 
 /// Why homing did not complete.
@@ -40,6 +42,10 @@ enum class HomingFailure : std::uint8_t {
   kDriveFault,     ///< The drive went to fault (reaction active or fault).
   kDriveRebooted,  ///< A boot-up from the drive: it restarted and lost what it was doing.
   kNotEnabled,     ///< The drive did not reach operation enabled in homing mode.
+  // Loop-side homing only (homing_sequencer.hpp):
+  kNotDisabled,  ///< The drive did not reach switch on disabled (before or after homing).
+  kSdoFailed,    ///< A mode change over SDO was refused or not answered.
+  kStopped,      ///< The group held (a fault, loss or reboot elsewhere) or the bus went down.
 };
 
 /// "homing error", "homing timeout", ...

@@ -64,6 +64,10 @@ class SdoClient {
   bool is_upload() const { return upload_; }
   /// An upload's bytes once kDone.
   std::span<const std::uint8_t> data() const { return {upload_data_.data(), upload_size_}; }
+  /// Writes "SDO download to 0x6060:00 aborted by the drive: 0x06090030 (value range
+  /// of parameter exceeded)" into `out` (NUL-terminated, cut to fit) for a kAborted transfer.
+  /// Real-time safe.
+  void describe_failure(std::span<char> out) const;
 
  private:
   hal::CanFrame request_frame() const;

@@ -5,6 +5,7 @@
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/ros2/urdf_export.hpp"
 #include "main_job.hpp"
+#include "ros2_diagnostics.hpp"
 
 // MainJob's bridge to ROS 2: the joint loops' published states as /joint_states and /tf (and
 // /clock on simulated time), the stereo pair's images with their camera_info, sampled on the
@@ -32,6 +33,8 @@ void MainJob::build_ros2_bridge() {
   settings.publish_clock = config.clock && !realtime_;
   settings.publish_tf = config.tf;
   settings.images_rate_hz = config.images_hz;
+  settings.diagnostics_rate_hz = config.diagnostics_hz;
+  settings.gaze_rate_hz = gaze_loop_ != nullptr ? config.gaze_hz : 0.0;
   settings.epoch_offset_ns = realtime_ ? clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC) : 0;
 
   // Each joint loop's newest frame, its joints put in rig order; the stamp is the newest of them.
@@ -75,6 +78,23 @@ void MainJob::build_ros2_bridge() {
     sources.stereo_images = &camera_loop_->observed_stereo_frames();
     sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
                               hardware_.cameras[camera_index(hardware_.stereo->right_camera)]};
+  }
+  if (config.diagnostics_hz > 0.0) {
+    DiagnosticsInputs inputs;
+    inputs.executor = executor_.get();
+    for (const JointLoopSlot& slot : joint_loops_) {
+      inputs.joint_loops.push_back({slot.loop.get(), slot.states.get(), slot.rig_indices});
+    }
+    inputs.joint_names = joint_order_;
+    for (const hal::JointGroupInfo& group : hardware_.groups) {
+      for (std::size_t j = 0; j < group.joints.size(); ++j)
+        inputs.joint_groups.push_back(group.name);
+    }
+    inputs.can_groups = offers_.all<const canopen::CanJointGroup>();
+    sources.diagnostics = make_diagnostics_sampler(std::move(inputs));
+  }
+  if (gaze_loop_ != nullptr && config.gaze_hz > 0.0) {
+    sources.gaze = make_gaze_sampler(*gaze_loop_);
   }
   if (config.commands && actions_) {
     // Through the same actions as the console and behaviours: the same checks, one writer.

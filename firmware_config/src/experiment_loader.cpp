@@ -109,6 +109,9 @@ void read_ros2(MapReader& experiment, ExperimentConfig& config) {
     ros2.clock = section->boolean_or("clock", ros2.clock);
     ros2.tf = section->boolean_or("tf", ros2.tf);
     ros2.images_hz = section->number_or("images_hz", ros2.images_hz, Range::closed(0.0, 1000.0));
+    ros2.diagnostics_hz =
+        section->number_or("diagnostics_hz", ros2.diagnostics_hz, Range::closed(0.0, 1000.0));
+    ros2.gaze_hz = section->number_or("gaze_hz", ros2.gaze_hz, Range::closed(0.0, 1000.0));
     ros2.commands = section->boolean_or("commands", ros2.commands);
     section->finish();
   }

@@ -17,6 +17,7 @@ LockstepExecutor::LockstepExecutor(std::vector<ScheduledLoop> loops, std::int64_
 void LockstepExecutor::add_loop(ScheduledLoop loop) {
   if (configured_) throw std::logic_error("lockstep executor: add_loop() after configure()");
   validate(loop, "lockstep");
+  add_live_loop(loop.loop->name(), loop.schedule.rate_hz);
   loops_.push_back(loop);
 }
 
@@ -60,7 +61,9 @@ void LockstepExecutor::run_until_ns(std::int64_t end_ns) {
     const std::uint64_t torn_before = hal::thread_torn_read_count();
     const std::int64_t wall_start_ns = wall.now_ns();
     const hal::Status status = loops_[due].loop->update(tick);
-    stats.execution_time.record_ns(wall.now_ns() - wall_start_ns);
+    const std::int64_t execution_ns = wall.now_ns() - wall_start_ns;
+    stats.execution_time.record_ns(execution_ns);
+    live(due).record(0, execution_ns, false);  // Simulated time: never late.
     stats.allocations += thread_allocation_count() - allocations_before;
     stats.torn_reads += hal::thread_torn_read_count() - torn_before;
     stats.wakeup_latency.record_ns(0);

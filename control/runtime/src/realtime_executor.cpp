@@ -77,6 +77,7 @@ RealtimeExecutor::RealtimeExecutor(std::vector<ScheduledLoop> loops, RealtimeOpt
 
 void RealtimeExecutor::add_loop(ScheduledLoop loop) {
   validate(loop, "realtime");
+  add_live_loop(loop.loop->name(), loop.schedule.rate_hz);
   loops_.push_back(loop);
 }
 
@@ -135,7 +136,7 @@ void RealtimeExecutor::run_loop(std::size_t index, RunState& state) {
     return;
   }
 
-  run_cycles(scheduled, stats, start, state);
+  run_cycles(scheduled, stats, live(index), start, state);
   scheduled.loop->deactivate();
   stats.fault_message = std::string(scheduled.loop->fault_message());
   stats.faults = scheduled.loop->fault_count();
@@ -198,7 +199,7 @@ std::int64_t RealtimeExecutor::wait_for_common_start(std::size_t index, RunState
 // The cycles, on absolute deadlines from `start`, until the duration ends, `stop` is set or
 // another loop aborts the run.
 void RealtimeExecutor::run_cycles(const ScheduledLoop& scheduled, LoopStatistics& stats,
-                                  std::int64_t start, RunState& state) {
+                                  LiveLoopCounters& live, std::int64_t start, RunState& state) {
   const double rate_hz = scheduled.schedule.rate_hz;
   const std::int64_t end = state.duration_ns > 0 ? start + state.duration_ns : INT64_MAX;
   std::uint64_t k = 0;
@@ -223,6 +224,8 @@ void RealtimeExecutor::run_cycles(const ScheduledLoop& scheduled, LoopStatistics
       ++stats.failed_updates;
     }
     ++stats.cycles;
+    live.record(woke - deadline, finished_ns - woke,
+                finished_ns > deadline_ns(start, k + 1, rate_hz));
     k = next_cycle(scheduled, stats, start, end, k, finished_ns);
   }
 }

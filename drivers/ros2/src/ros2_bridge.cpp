@@ -12,6 +12,7 @@
 #include "geometry_msgs/msg/PointStamped.h"
 
 #include "cambio/ros2/ros_time.hpp"
+#include "diagnostic_msgs/msg/DiagnosticArray.h"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
 #include "sensor_msgs/msg/Image.h"
@@ -108,6 +109,9 @@ struct Ros2Bridge::Dds {
   std::array<dds_entity_t, 2> images{};
   std::array<dds_entity_t, 2> camera_infos{};
   dds_entity_t robot_description = 0;
+  dds_entity_t diagnostics = 0;
+  dds_entity_t gaze_fixation = 0;
+  dds_entity_t gaze_status = 0;
   dds_entity_t look_at = 0;   // Reader.
   dds_entity_t refusals = 0;  // Writer.
   dds_entity_t waitset = 0;   // The command thread's: new commands, or stop.
@@ -131,6 +135,8 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
   }
   check_rate(settings_.joint_states_rate_hz, "joint states");
   check_rate(settings_.images_rate_hz, "images");
+  check_rate(settings_.diagnostics_rate_hz, "diagnostics");
+  check_rate(settings_.gaze_rate_hz, "gaze");
   for (const TfJoint& joint : sources_.tf_tree.joints) {
     if (joint.position_index >= n) {
       throw std::invalid_argument("ROS 2 bridge: tf joint '" + joint.child_frame +
@@ -180,6 +186,16 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
       dds_->camera_info[eye].header.frame_id = optical_frames_[eye].data();
     }
   }
+  if (settings_.diagnostics_rate_hz > 0.0 && sources_.diagnostics) {
+    dds_->diagnostics = make_writer(participant, diagnostic_msgs_msg_dds__DiagnosticArray__desc,
+                                    "/diagnostics", state);
+  }
+  if (settings_.gaze_rate_hz > 0.0 && sources_.gaze) {
+    dds_->gaze_fixation = make_writer(participant, geometry_msgs_msg_dds__PointStamped__desc,
+                                      "/cambio/gaze/fixation", state);
+    dds_->gaze_status = make_writer(participant, diagnostic_msgs_msg_dds__DiagnosticStatus__desc,
+                                    "/cambio/gaze/status", state);
+  }
   if (sources_.look_at) {
     dds_->refusals =
         make_writer(participant, std_msgs_msg_dds__String__desc, "/cambio/refusals", state);
@@ -227,6 +243,13 @@ void Ros2Bridge::start() {
     threads_.emplace_back(
         [this] { run_every(settings_.images_rate_hz, &Ros2Bridge::publish_images); });
   }
+  if (dds_->diagnostics != 0) {
+    threads_.emplace_back(
+        [this] { run_every(settings_.diagnostics_rate_hz, &Ros2Bridge::publish_diagnostics); });
+  }
+  if (dds_->gaze_status != 0) {
+    threads_.emplace_back([this] { run_every(settings_.gaze_rate_hz, &Ros2Bridge::publish_gaze); });
+  }
   if (dds_->look_at != 0) threads_.emplace_back([this] { serve_commands(); });
 }
 
@@ -248,6 +271,8 @@ BridgeCounts Ros2Bridge::counts() const {
   counts.tf = tf_sent_.load();
   counts.images = images_sent_.load();
   counts.camera_infos = camera_infos_sent_.load();
+  counts.diagnostics = diagnostics_sent_.load();
+  counts.gaze = gaze_sent_.load();
   counts.commands_received = commands_received_.load();
   counts.commands_refused = commands_refused_.load();
   counts.write_errors = write_errors_.load();
@@ -359,6 +384,61 @@ void Ros2Bridge::publish_image(std::size_t eye, const hal::Image& image) {
   sensor_msgs_msg_dds__CameraInfo_& info = dds_->camera_info[eye];
   info.header.stamp = message.header.stamp;
   write(dds_->camera_infos[eye], &info, &camera_infos_sent_);
+}
+
+namespace {
+
+// A DiagnosticStatus borrowing `entry`'s strings; its key-values go in `values` (kept alive by
+// the caller until the message is written).
+diagnostic_msgs_msg_dds__DiagnosticStatus_ status_of(
+    DiagnosticEntry& entry, std::vector<diagnostic_msgs_msg_dds__KeyValue_>& values) {
+  values.clear();
+  for (auto& [key, value] : entry.values) values.push_back({key.data(), value.data()});
+  diagnostic_msgs_msg_dds__DiagnosticStatus_ status{};
+  status.level = static_cast<std::uint8_t>(entry.level);
+  status.name = entry.name.data();
+  status.message = entry.message.data();
+  status.hardware_id = entry.hardware_id.data();
+  const auto n = static_cast<std::uint32_t>(values.size());
+  status.values = {n, n, values.data(), false};
+  return status;
+}
+
+}  // namespace
+
+void Ros2Bridge::publish_diagnostics() {
+  std::int64_t stamp_ns = 0;
+  std::vector<DiagnosticEntry> entries;
+  if (!sources_.diagnostics(stamp_ns, entries)) return;
+  std::vector<std::vector<diagnostic_msgs_msg_dds__KeyValue_>> values(entries.size());
+  std::vector<diagnostic_msgs_msg_dds__DiagnosticStatus_> statuses;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    statuses.push_back(status_of(entries[i], values[i]));
+  }
+  const RosTime stamp = to_ros_time(stamp_ns, settings_.epoch_offset_ns);
+  diagnostic_msgs_msg_dds__DiagnosticArray_ message{};
+  message.header.stamp = {stamp.sec, stamp.nanosec};
+  message.header.frame_id = const_cast<char*>("");
+  const auto n = static_cast<std::uint32_t>(statuses.size());
+  message.status = {n, n, statuses.data(), false};
+  write(dds_->diagnostics, &message, &diagnostics_sent_);
+}
+
+void Ros2Bridge::publish_gaze() {
+  GazeSample sample;
+  if (!sources_.gaze(sample)) return;
+  const RosTime stamp = to_ros_time(sample.stamp_ns, settings_.epoch_offset_ns);
+  if (sample.fixation_valid) {
+    geometry_msgs_msg_dds__PointStamped_ fixation{};
+    fixation.header.stamp = {stamp.sec, stamp.nanosec};
+    fixation.header.frame_id = const_cast<char*>("base");
+    fixation.point = {sample.fixation_base_m[0], sample.fixation_base_m[1],
+                      sample.fixation_base_m[2]};
+    write(dds_->gaze_fixation, &fixation, nullptr);
+  }
+  std::vector<diagnostic_msgs_msg_dds__KeyValue_> values;
+  const diagnostic_msgs_msg_dds__DiagnosticStatus_ status = status_of(sample.status, values);
+  write(dds_->gaze_status, &status, &gaze_sent_);
 }
 
 void Ros2Bridge::serve_commands() {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <csignal>
 #include <thread>
+#include <vector>
 
 #include "cambio/hal/monotonic_clock.hpp"
 #include "recording_loop.hpp"
@@ -90,6 +91,38 @@ TEST(RealtimeExecutor, SkipPolicyAccountsForEveryDeadlineOfTheRunExactlyOnce) {
   EXPECT_EQ(stats.cycles + stats.skipped_cycles, 10u);
   EXPECT_GE(stats.skipped_cycles, 2u);
   EXPECT_GE(stats.overruns, 2u);
+}
+
+// What /diagnostics reads while the run goes on: from another thread, the cycles grow; at the
+// end they and the overruns equal the run's own statistics; the worst wake-up latency and update
+// time restart at each read (the overrunning cycle's 25 ms shows once, then no more).
+TEST(RealtimeExecutor, LiveStatisticsAreReadableWhileTheLoopsRunAndAgreeWithTheFinalOnes) {
+  OverrunningLoop loop(20, 1'000'000, 25'000'000);
+  RealtimeExecutor executor({{&loop, schedule(100)}}, kQuiet);
+  const std::atomic<bool> never{false};
+  std::vector<LiveLoopSample> during;
+  std::thread reader([&] {
+    for (int k = 0; k < 6; ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(60));
+      during.push_back(executor.live_statistics().at(0));
+    }
+  });
+  executor.run(never, 400'000'000);
+  reader.join();
+  ASSERT_EQ(during.size(), 6u);
+  EXPECT_EQ(during[0].name, "overrunning");
+  EXPECT_EQ(during[0].rate_hz, 100.0);
+  EXPECT_GT(during[2].cycles, during[0].cycles) << "counted while running";
+  // Cycle 20 (0.2 s in) sleeps 25 ms: one read sees an update of at least that, the last does not.
+  const auto longest = std::max_element(
+      during.begin(), during.end(),
+      [](const auto& a, const auto& b) { return a.max_execution_ns < b.max_execution_ns; });
+  EXPECT_GE(longest->max_execution_ns, 25'000'000);
+  EXPECT_LT(during.back().max_execution_ns, 25'000'000);
+  const LiveLoopSample after = executor.live_statistics().at(0);
+  EXPECT_EQ(after.cycles, executor.statistics()[0].cycles);
+  EXPECT_EQ(after.overruns, executor.statistics()[0].overruns);
+  EXPECT_GE(after.overruns, 1u);
 }
 
 std::atomic<bool> g_sigint{false};

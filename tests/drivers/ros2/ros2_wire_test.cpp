@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "../../apps/run_cambio.hpp"
+#include "diagnostic_msgs/msg/DiagnosticArray.h"
 #include "geometry_msgs/msg/PointStamped.h"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
@@ -70,6 +72,26 @@ struct ReceivedCameraInfo {
   std::array<double, 9> k{};
   std::array<double, 12> p{};
 };
+
+struct ReceivedStatus {
+  int level = -1;
+  std::string name;
+  std::string message;
+  std::string hardware_id;
+  std::map<std::string, std::string> values;
+};
+
+ReceivedStatus received_status(const diagnostic_msgs_msg_dds__DiagnosticStatus_& m) {
+  ReceivedStatus r;
+  r.level = m.level;
+  r.name = m.name;
+  r.message = m.message;
+  r.hardware_id = m.hardware_id;
+  for (uint32_t k = 0; k < m.values._length; ++k) {
+    r.values[m.values._buffer[k].key] = m.values._buffer[k].value;
+  }
+  return r;
+}
 
 struct ReceivedJointState {
   double stamp_s = 0.0;
@@ -164,6 +186,22 @@ class Peer {
         dds_create_reader(participant_,
                           dds_create_topic(participant_, &sensor_msgs_msg_dds__CameraInfo__desc,
                                            "rt/left_eye/camera_info", nullptr, nullptr),
+                          qos, nullptr);
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    diagnostics_reader_ = dds_create_reader(
+        participant_,
+        dds_create_topic(participant_, &diagnostic_msgs_msg_dds__DiagnosticArray__desc,
+                         "rt/diagnostics", nullptr, nullptr),
+        qos, nullptr);
+    gaze_status_reader_ = dds_create_reader(
+        participant_,
+        dds_create_topic(participant_, &diagnostic_msgs_msg_dds__DiagnosticStatus__desc,
+                         "rt/cambio/gaze/status", nullptr, nullptr),
+        qos, nullptr);
+    fixation_reader_ =
+        dds_create_reader(participant_,
+                          dds_create_topic(participant_, &geometry_msgs_msg_dds__PointStamped__desc,
+                                           "rt/cambio/gaze/fixation", nullptr, nullptr),
                           qos, nullptr);
     publications_ =
         dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
@@ -268,6 +306,35 @@ class Peer {
       }
       dds_return_loan(refusal_reader_, samples, n);
     }
+    while ((n = dds_take(diagnostics_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m = static_cast<const diagnostic_msgs_msg_dds__DiagnosticArray_*>(samples[i]);
+        std::vector<ReceivedStatus> array;
+        for (uint32_t k = 0; k < m->status._length; ++k) {
+          array.push_back(received_status(m->status._buffer[k]));
+        }
+        diagnostics.push_back(std::move(array));
+      }
+      dds_return_loan(diagnostics_reader_, samples, n);
+    }
+    while ((n = dds_take(gaze_status_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        gaze_status.push_back(received_status(
+            *static_cast<const diagnostic_msgs_msg_dds__DiagnosticStatus_*>(samples[i])));
+      }
+      dds_return_loan(gaze_status_reader_, samples, n);
+    }
+    while ((n = dds_take(fixation_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m = static_cast<const geometry_msgs_msg_dds__PointStamped_*>(samples[i]);
+        fixation_frames.emplace_back(m->header.frame_id);
+        fixations.emplace_back(m->point.x, m->point.y, m->point.z);
+      }
+      dds_return_loan(fixation_reader_, samples, n);
+    }
     while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
@@ -292,6 +359,10 @@ class Peer {
   std::vector<ReceivedCameraInfo> camera_infos;
   std::vector<std::string> refusals;
   std::string robot_description;
+  std::vector<std::vector<ReceivedStatus>> diagnostics;
+  std::vector<ReceivedStatus> gaze_status;
+  std::vector<Eigen::Vector3d> fixations;
+  std::vector<std::string> fixation_frames;
 
   /// Sends a look-at target on /cambio/look_at, as a ROS 2 node's PointStamped.
   void look_at(const char* frame, double x, double y, double z) {
@@ -313,6 +384,9 @@ class Peer {
   dds_entity_t refusal_reader_ = 0;
   dds_entity_t description_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
+  dds_entity_t diagnostics_reader_ = 0;
+  dds_entity_t gaze_status_reader_ = 0;
+  dds_entity_t fixation_reader_ = 0;
   dds_entity_t publications_ = 0;
 };
 
@@ -460,6 +534,62 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos
                                              239.5,   0, 0,     0, 1, 0};
   EXPECT_EQ(info.k, k);
   EXPECT_EQ(info.p, projection);
+
+  // /diagnostics (1 Hz of wall time, and once more at the end; the first, at start, may go out
+  // before the peer is matched): every loop at its rate, each of the 15 drives operation
+  // enabled, the joint loop driving.
+  ASSERT_TRUE(peer.publications.contains("rt/diagnostics"));
+  EXPECT_EQ(peer.publications.at("rt/diagnostics").type_name,
+            "diagnostic_msgs::msg::dds_::DiagnosticArray_");
+  ASSERT_FALSE(peer.diagnostics.empty());
+  std::map<std::string, ReceivedStatus> by_name;
+  for (const ReceivedStatus& status : peer.diagnostics.back()) by_name[status.name] = status;
+  int drives = 0;
+  for (const auto& [name, status] : by_name) {
+    if (name.rfind("cambio: drive ", 0) != 0) continue;
+    ++drives;
+    EXPECT_EQ(status.values.at("drive_state"), "operation enabled") << name;
+    EXPECT_EQ(status.values.at("error_code"), "0x0000") << name;
+    EXPECT_EQ(status.level, 0) << name;
+  }
+  EXPECT_EQ(drives, 15);
+  ASSERT_TRUE(by_name.contains("cambio: drive left_eye_pan"));
+  EXPECT_NEAR(
+      std::stod(by_name.at("cambio: drive left_eye_pan").values.at("position_rad")) * kDegPerRad,
+      left_truth_deg, 0.1);
+  ASSERT_TRUE(by_name.contains("cambio: joint loop joint holds"));
+  EXPECT_EQ(by_name.at("cambio: joint loop joint holds").values.at("fault_latched"), "false");
+  ASSERT_TRUE(by_name.contains("cambio: loop joint"));
+  const ReceivedStatus& joint_loop = by_name.at("cambio: loop joint");
+  EXPECT_EQ(std::stod(joint_loop.values.at("scheduled_rate_hz")), 400.0);  // rigs/cambio.yaml
+  // Simulated time: the rate in run time is the schedule's (one cycle more or less per window
+  // of at least 0.2 s).
+  EXPECT_NEAR(std::stod(joint_loop.values.at("rate_hz")), 400.0, 5.5) << joint_loop.message;
+  EXPECT_GE(std::stoull(joint_loop.values.at("cycles")), 799u);
+  EXPECT_TRUE(by_name.contains("cambio: loop camera"));
+
+  // The gaze: where the robot believes it looks, on the sphere's near surface (the scene's
+  // geometry), in base; its status says it fixates with a confident disparity near zero.
+  ASSERT_FALSE(peer.fixations.empty());
+  EXPECT_EQ(peer.fixation_frames.back(), "base");
+  const Eigen::Vector3d sphere_m(1.0, 0.14, 1.40);
+  EXPECT_NEAR((peer.fixations.back() - sphere_m).norm(), 0.10, 0.03) << peer.fixations.back();
+  // The closed form: the point the left eye's central ray meets, (0.900, 0.132, 1.40) m (above).
+  EXPECT_LT((peer.fixations.back() - Eigen::Vector3d(0.900, 0.132, 1.40)).norm(), 0.005)
+      << peer.fixations.back();
+  ASSERT_FALSE(peer.gaze_status.empty());
+  const ReceivedStatus& gaze = peer.gaze_status.back();
+  EXPECT_EQ(gaze.name, "cambio: gaze");
+  EXPECT_EQ(gaze.values.at("action"), "fixate");
+  EXPECT_EQ(gaze.values.at("disparity_valid"), "true");
+  EXPECT_LT(std::abs(std::stod(gaze.values.at("disparity_px"))), 2.0);
+  std::printf(
+      "/diagnostics: %zu arrays of %zu statuses; loop joint: %s; /cambio/gaze/status: %s, "
+      "disparity %s px at confidence %s; fixation (%.3f, %.3f, %.3f) m\n",
+      peer.diagnostics.size(), peer.diagnostics.back().size(), joint_loop.message.c_str(),
+      gaze.message.c_str(), gaze.values.at("disparity_px").c_str(),
+      gaze.values.at("disparity_confidence").c_str(), peer.fixations.back().x(),
+      peer.fixations.back().y(), peer.fixations.back().z());
 }
 
 TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReasons) {

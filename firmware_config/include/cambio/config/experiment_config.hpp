@@ -45,6 +45,8 @@ struct Ros2Config {
   bool clock = true;              ///< /clock on simulated-time (lockstep) runs.
   bool tf = true;                 ///< /tf with each joint state, /tf_static once.
   double images_hz = 15.0;        ///< The stereo pair's images per second of wall time; 0: none.
+  double diagnostics_hz = 1.0;    ///< /diagnostics per second of wall time; 0: none.
+  double gaze_hz = 10.0;          ///< /cambio/gaze/fixation and status per second; 0: none.
   /// Take gaze commands from ROS 2 (/cambio/look_at): the gaze task with no `commands` and no
   /// `behaviour` (the gaze loop takes one writer).
   bool commands = false;

@@ -2,10 +2,13 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "cambio/hal/clock.hpp"
+#include "cambio/runtime/live_loop_counters.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/runtime/scheduled_loop.hpp"
 
@@ -32,6 +35,19 @@ class Executor {
                            const Progress& progress) = 0;
   /// Per loop, in add_loop() order, after run().
   virtual const std::vector<LoopStatistics>& statistics() const = 0;
+
+  /// Per loop, in add_loop() order, while run() runs (any one thread; each read restarts the
+  /// maxima): cycles, overruns, the worst wake-up latency and update time since the last read.
+  std::vector<LiveLoopSample> live_statistics();
+
+ protected:
+  /// The executors' add_loop() registers each loop here, before run().
+  void add_live_loop(std::string name, double rate_hz);
+  LiveLoopCounters& live(std::size_t loop) { return live_[loop]; }
+
+ private:
+  std::deque<LiveLoopCounters> live_;  // Atomics do not move: a deque keeps them in place.
+  std::vector<LiveLoopSample> live_names_;
 };
 
 /// Checks a schedule the way both executors do; throws std::invalid_argument naming the loop.

@@ -53,8 +53,8 @@ class RealtimeExecutor final : public Executor {
   bool configure_and_activate(std::size_t index, RunState& state);
   /// Waits for every loop to be configured; returns the start the loops share.
   std::int64_t wait_for_common_start(std::size_t index, RunState& state);
-  void run_cycles(const ScheduledLoop& scheduled, LoopStatistics& stats, std::int64_t start,
-                  RunState& state);
+  void run_cycles(const ScheduledLoop& scheduled, LoopStatistics& stats, LiveLoopCounters& live,
+                  std::int64_t start, RunState& state);
   void report_progress_until_finished(RunState& state, const Progress& progress);
 
   hal::MonotonicClock clock_;

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "cambio/hal/camera.hpp"
@@ -32,6 +33,10 @@ struct BridgeSettings {
   bool publish_tf = true;
   /// The stereo pair's newest images (and camera_info) per second of wall time; 0: none.
   double images_rate_hz = 0.0;
+  /// /diagnostics per second of wall time (ROS's diagnostic_updater publishes at 1 Hz); 0: none.
+  double diagnostics_rate_hz = 0.0;
+  /// /cambio/gaze/fixation and /cambio/gaze/status per second of wall time; 0: none.
+  double gaze_rate_hz = 0.0;
   /// Added to the run's clock to make ROS time: 0 for simulated time, CLOCK_REALTIME minus
   /// CLOCK_MONOTONIC for a run on the wall clock.
   std::int64_t epoch_offset_ns = 0;
@@ -51,6 +56,32 @@ struct JointStatesSample {
 /// Called from more than one of the bridge's threads: it must keep no scratch state of its own.
 using JointStatesSampler = std::function<bool(JointStatesSample& sample)>;
 
+/// One component's state, as diagnostic_msgs/DiagnosticStatus says it.
+struct DiagnosticEntry {
+  enum class Level : std::uint8_t { kOk = 0, kWarn = 1, kError = 2, kStale = 3 };
+  Level level = Level::kOk;
+  std::string name;  ///< e.g. "cambio: drive neck_pan".
+  std::string message;
+  std::string hardware_id;
+  std::vector<std::pair<std::string, std::string>> values;
+};
+
+/// Fills `entries` (cleared by the caller) with every component's state now and `stamp_ns` with
+/// the run's clock; false while there is nothing to say yet. Called on the bridge's diagnostics
+/// thread (it may allocate: that thread is not a loop's).
+using DiagnosticsSampler =
+    std::function<bool(std::int64_t& stamp_ns, std::vector<DiagnosticEntry>& entries)>;
+
+/// The gaze as the robot believes it: where it fixates, and the gaze loop's state.
+struct GazeSample {
+  std::int64_t stamp_ns = 0;
+  bool fixation_valid = false;
+  std::array<double, 3> fixation_base_m{};  ///< The believed fixation point, frame "base".
+  DiagnosticEntry status;                   ///< Action, disparity, confidence, vergence...
+};
+/// Fills `sample` with the newest gaze status; false while there is none. Bridge thread.
+using GazeSampler = std::function<bool(GazeSample& sample)>;
+
 /// Sends a look-at target (a point in "base", the world frame) to the gaze loop: returns "" when
 /// it was sent, else why not. Called on the bridge's command thread.
 using LookAtHandler = std::function<std::string(const Eigen::Vector3d& p_base_m)>;
@@ -68,6 +99,11 @@ struct BridgeSources {
   /// Subscribes /cambio/look_at (geometry_msgs/PointStamped, in any frame of the tf tree); each
   /// refusal is published on /cambio/refusals (std_msgs/String) and logged. Null: no commands.
   LookAtHandler look_at;
+  /// Each loop, drive, CAN group and the gaze as /diagnostics; null: none.
+  DiagnosticsSampler diagnostics;
+  /// The gaze as /cambio/gaze/fixation (geometry_msgs/PointStamped in base) and
+  /// /cambio/gaze/status (diagnostic_msgs/DiagnosticStatus); null: none.
+  GazeSampler gaze;
   /// The robot as a URDF (make_urdf), published once on /robot_description (std_msgs/String,
   /// transient-local, as robot_state_publisher does); empty: not published.
   std::string robot_description;
@@ -80,6 +116,8 @@ struct BridgeCounts {
   std::uint64_t tf = 0;
   std::uint64_t images = 0;
   std::uint64_t camera_infos = 0;
+  std::uint64_t diagnostics = 0;
+  std::uint64_t gaze = 0;
   std::uint64_t commands_received = 0;
   std::uint64_t commands_refused = 0;
   std::uint64_t write_errors = 0;
@@ -95,6 +133,9 @@ struct BridgeCounts {
 ///                                                 keep-last 5 (ROS's sensor-data QoS)
 ///   /robot_description  std_msgs/String      reliable transient-local keep-last 1
 ///   /cambio/refusals  std_msgs/String        reliable keep-last 10 (with commands)
+///   /diagnostics      diagnostic_msgs/DiagnosticArray   reliable keep-last 10 (when asked)
+///   /cambio/gaze/fixation  geometry_msgs/PointStamped   reliable keep-last 10 (when asked)
+///   /cambio/gaze/status    diagnostic_msgs/DiagnosticStatus  reliable keep-last 10
 /// and subscribes, when given a look-at handler:
 ///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
 ///                                                   is dropped by DDS, never queued)
@@ -126,6 +167,8 @@ class Ros2Bridge {
   void publish_tf(std::int64_t stamp_ns);
   void publish_tf_static();
   void publish_images();
+  void publish_diagnostics();
+  void publish_gaze();
   void publish_image(std::size_t eye, const hal::Image& image);
   void serve_commands();
   void handle_look_at(const void* point_stamped);
@@ -150,6 +193,8 @@ class Ros2Bridge {
   std::atomic<std::uint64_t> tf_sent_{0};
   std::atomic<std::uint64_t> images_sent_{0};
   std::atomic<std::uint64_t> camera_infos_sent_{0};
+  std::atomic<std::uint64_t> diagnostics_sent_{0};
+  std::atomic<std::uint64_t> gaze_sent_{0};
   std::atomic<std::uint64_t> commands_received_{0};
   std::atomic<std::uint64_t> commands_refused_{0};
   std::atomic<std::uint64_t> write_errors_{0};

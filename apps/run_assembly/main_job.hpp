@@ -111,6 +111,9 @@ class MainJob {
   bool request_home(const std::string& joint);
   std::uint64_t homes_refused() const;
   std::string last_refused_home() const;
+  /// Whether the run takes commands from ROS 2 (`ros2: {commands: true}` on the gaze task):
+  /// then `handler` carries out the console lines of /cambio/command (set before run()).
+  bool set_remote_command_handler(std::function<std::string(const std::string&)> handler);
   /// A reader of the joint loops' published states (the believed joints), rig order.
   control::BelievedJoints make_believed_joints() const;
   /// The rig's joints in rig order (the command frames' order).

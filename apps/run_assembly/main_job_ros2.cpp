@@ -106,4 +106,10 @@ void MainJob::build_ros2_bridge() {
   ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
 }
 
+bool MainJob::set_remote_command_handler(std::function<std::string(const std::string&)> handler) {
+  if (!ros2_bridge_ || !experiment_.ros2->commands || !actions_) return false;
+  ros2_bridge_->set_command_handler(std::move(handler));
+  return true;
+}
+
 }  // namespace cambio::app

@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "config_errors.hpp"
 #include "console_executors.hpp"
+#include "remote_commands.hpp"
 #include "stop_signal.hpp"
 
 namespace cambio::app {
@@ -46,15 +47,6 @@ std::unique_ptr<MainJob> make_job_or_report(const config::ExperimentConfig& expe
     return nullptr;
   }
   return job;
-}
-
-/// The names `look object NAME` accepts: the simulator's scene objects.
-std::vector<std::string> scene_object_names(const config::ExperimentConfig& experiment) {
-  std::vector<std::string> objects;
-  if (experiment.scene) {
-    for (const auto& object : experiment.scene->objects) objects.push_back(object.name);
-  }
-  return objects;
 }
 
 void print_console_start(const config::ExperimentConfig& experiment, const MainJob& job,

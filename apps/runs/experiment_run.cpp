@@ -10,6 +10,7 @@
 #include "config_errors.hpp"
 #include "main_job.hpp"
 #include "progress_reporter.hpp"
+#include "remote_commands.hpp"
 #include "run_evaluation.hpp"
 #include "run_outcome.hpp"
 #include "run_report.hpp"
@@ -96,6 +97,13 @@ int run_experiment(const config::ExperimentConfig& experiment, can::CanTrafficLo
       make_job_or_report(experiment, factory, can_log, exit_status);
   if (!job) return exit_status;
   if (stop.load()) return report_stopped_while_starting();
+  // Console lines from ROS 2, when the run takes its commands from there.
+  std::unique_ptr<RemoteCommands> remote;
+  if (job->actions() != nullptr && experiment.ros2 && experiment.ros2->commands) {
+    remote = std::make_unique<RemoteCommands>(*job, experiment);
+    (void)job->set_remote_command_handler(
+        [remote = remote.get()](const std::string& line) { return remote->carry_out(line); });
+  }
 
   print_run_start(experiment, *job);
   MainJobResult result;

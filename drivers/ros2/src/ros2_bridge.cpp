@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <stdexcept>
 #include <utility>
@@ -113,6 +114,7 @@ struct Ros2Bridge::Dds {
   dds_entity_t gaze_fixation = 0;
   dds_entity_t gaze_status = 0;
   dds_entity_t look_at = 0;   // Reader.
+  dds_entity_t command = 0;   // Reader: console lines.
   dds_entity_t refusals = 0;  // Writer.
   dds_entity_t waitset = 0;   // The command thread's: new commands, or stop.
   dds_entity_t stop_guard = 0;
@@ -205,11 +207,22 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
                                  "rt/cambio/look_at", state.qos, nullptr),
                 what);
     dds_->look_at = checked(dds_create_reader(participant, topic, state.qos, nullptr), what);
+    const std::string command_what = "create the reader of /cambio/command";
+    dds_->command = checked(
+        dds_create_reader(participant,
+                          checked(dds_create_topic(participant, &std_msgs_msg_dds__String__desc,
+                                                   "rt/cambio/command", state.qos, nullptr),
+                                  command_what),
+                          state.qos, nullptr),
+        command_what);
     dds_->waitset = checked(dds_create_waitset(participant), what);
     dds_->stop_guard = checked(dds_create_guardcondition(participant), what);
     const dds_entity_t readable =
         checked(dds_create_readcondition(dds_->look_at, DDS_ANY_STATE), what);
+    const dds_entity_t command_readable =
+        checked(dds_create_readcondition(dds_->command, DDS_ANY_STATE), command_what);
     if (dds_waitset_attach(dds_->waitset, readable, 0) != DDS_RETCODE_OK ||
+        dds_waitset_attach(dds_->waitset, command_readable, 0) != DDS_RETCODE_OK ||
         dds_waitset_attach(dds_->waitset, dds_->stop_guard, 0) != DDS_RETCODE_OK) {
       throw std::runtime_error("ROS 2 bridge: cannot " + what);
     }
@@ -459,7 +472,32 @@ void Ros2Bridge::serve_commands() {
       }
       dds_return_loan(dds_->look_at, samples, n);
     }
+    while ((n = dds_take(dds_->command, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (infos[i].valid_data) handle_command(samples[i]);
+      }
+      dds_return_loan(dds_->command, samples, n);
+    }
   }
+}
+
+void Ros2Bridge::handle_command(const void* string_message) {
+  // A console line is short; a remote node's megabyte is refused before anything parses it.
+  constexpr std::size_t kMaxLineBytes = 1000;
+  commands_received_.fetch_add(1, std::memory_order_relaxed);
+  const char* data = static_cast<const std_msgs_msg_dds__String_*>(string_message)->data;
+  const std::string line =
+      data != nullptr ? std::string(data, strnlen(data, kMaxLineBytes + 1)) : std::string();
+  if (line.size() > kMaxLineBytes) {
+    refuse("/cambio/command: a line longer than " + std::to_string(kMaxLineBytes) + " bytes");
+    return;
+  }
+  if (!command_handler_) {
+    refuse("/cambio/command: this run takes no console commands");
+    return;
+  }
+  const std::string refusal = command_handler_(line);
+  if (!refusal.empty()) refuse("/cambio/command: " + refusal);
 }
 
 void Ros2Bridge::handle_look_at(const void* point_stamped) {

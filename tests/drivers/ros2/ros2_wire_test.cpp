@@ -170,6 +170,11 @@ class Peer {
                           dds_create_topic(participant_, &geometry_msgs_msg_dds__PointStamped__desc,
                                            "rt/cambio/look_at", nullptr, nullptr),
                           qos, nullptr);
+    command_writer_ =
+        dds_create_writer(participant_,
+                          dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
+                                           "rt/cambio/command", nullptr, nullptr),
+                          qos, nullptr);
     refusal_reader_ =
         dds_create_reader(participant_,
                           dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
@@ -371,6 +376,15 @@ class Peer {
     message.point = {x, y, z};
     EXPECT_EQ(dds_write(look_at_writer_, &message), DDS_RETCODE_OK);
   }
+  /// Sends a console line on /cambio/command, as a ROS 2 node's std_msgs/String.
+  void command(const std::string& line) {
+    const std_msgs_msg_dds__String_ message{const_cast<char*>(line.c_str())};
+    EXPECT_EQ(dds_write(command_writer_, &message), DDS_RETCODE_OK);
+  }
+  bool refused(const std::string& what) const {
+    return std::any_of(refusals.begin(), refusals.end(),
+                       [&](const std::string& r) { return r.find(what) != std::string::npos; });
+  }
   std::map<std::string, Publication> publications;
 
  private:
@@ -381,6 +395,7 @@ class Peer {
   dds_entity_t tf_static_reader_ = 0;
   dds_entity_t image_reader_ = 0;
   dds_entity_t look_at_writer_ = 0;
+  dds_entity_t command_writer_ = 0;
   dds_entity_t refusal_reader_ = 0;
   dds_entity_t description_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
@@ -636,6 +651,54 @@ TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReason
   EXPECT_TRUE(refused("is not finite"));
   EXPECT_FALSE(refused("(1, 0.14, 1.4)")) << "the good target was refused";
   EXPECT_NE(result.output.find("ROS 2 command refused"), std::string::npos) << "and logged";
+}
+
+// The console's lines from a ROS 2 node (/cambio/command): one that acts on the robot is carried
+// out with the console's checks; one about the console's own session, a misspelt one, one naming
+// no joint and an endless one are refused with their reasons on /cambio/refusals.
+TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirReasons) {
+  Peer peer(domain_);
+  std::filesystem::create_directories(out_);
+  const std::filesystem::path experiment = out_ / "command.yaml";
+  {
+    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
+    std::ofstream file(experiment);
+    file << "experiment:\n  name: command\n  rig: " << shipped
+         << "rigs/cambio.yaml\n  scene: " << shipped
+         << "scenes/vergence.yaml\n  perception: " << shipped
+         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
+         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
+    ASSERT_TRUE(file.good());
+  }
+  auto run = std::async(std::launch::async, [&] {
+    return testing::run_cambio("run '" + experiment.string() + "' --out '" +
+                               (out_ / "out").string() + "'");
+  });
+  const std::string endless(5000, 'x');
+  while (run.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+    peer.take();
+    if (peer.joint_states.empty() || peer.refused("longer than")) continue;
+    // Until the run has heard them (the first writes may precede the match).
+    peer.command("move left_eye_pan 5deg");
+    peer.command("wait 1");
+    peer.command("sacade point 1 0.14 1.4");
+    peer.command("move elbow 1");
+    peer.command(endless);
+  }
+  const testing::CommandResult result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  for (int i = 0; i < 25; ++i) {
+    peer.take();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_FALSE(peer.joint_states.empty());
+  EXPECT_NEAR(peer.joint_states.back().position_rad[3] * kDegPerRad, 5.0, 0.3);
+  EXPECT_TRUE(peer.refused("/cambio/command: 'wait' is for the console's own session"));
+  EXPECT_TRUE(peer.refused("did you mean \"saccade\"?"));
+  EXPECT_TRUE(peer.refused("no joint \"elbow\""));
+  EXPECT_TRUE(peer.refused("/cambio/command: a line longer than 1000 bytes"));
+  EXPECT_FALSE(peer.refused("left_eye_pan")) << "the good line was refused";
+  for (const std::string& refusal : peer.refusals) std::printf("refused: %s\n", refusal.c_str());
 }
 
 }  // namespace

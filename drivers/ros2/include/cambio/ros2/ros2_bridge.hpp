@@ -86,6 +86,10 @@ using GazeSampler = std::function<bool(GazeSample& sample)>;
 /// it was sent, else why not. Called on the bridge's command thread.
 using LookAtHandler = std::function<std::string(const Eigen::Vector3d& p_base_m)>;
 
+/// Carries out one console line sent on /cambio/command (`saccade point 1 0.1 1.4`, `verge off`,
+/// ...): returns "" when it was carried out, else why not. Called on the bridge's command thread.
+using RemoteCommandHandler = std::function<std::string(const std::string& line)>;
+
 /// Where the bridge's data comes from.
 struct BridgeSources {
   std::vector<std::string> joint_names;  ///< The joint states' order.
@@ -139,6 +143,7 @@ struct BridgeCounts {
 /// and subscribes, when given a look-at handler:
 ///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
 ///                                                   is dropped by DDS, never queued)
+///   /cambio/command   std_msgs/String              reliable keep-last 10: a console line
 /// Threads of its own, not real-time, sample the loops' channels at their rates and wait for
 /// commands: a loop never waits for the network. The DDS configuration is Cyclone's own
 /// (CYCLONEDDS_URI).
@@ -152,6 +157,11 @@ class Ros2Bridge {
   ~Ros2Bridge();
   Ros2Bridge(const Ros2Bridge&) = delete;
   Ros2Bridge& operator=(const Ros2Bridge&) = delete;
+
+  /// The console lines of /cambio/command go to `handler` (before start(); a run that takes
+  /// commands, i.e. has a look-at handler, subscribes the topic whether or not one is set, and
+  /// refuses its lines without one).
+  void set_command_handler(RemoteCommandHandler handler) { command_handler_ = std::move(handler); }
 
   /// Publishes /tf_static and /robot_description and starts the publishing threads (once).
   void start();
@@ -173,11 +183,13 @@ class Ros2Bridge {
   void serve_commands();
   void handle_look_at(const void* point_stamped);
   void refuse(const std::string& reason);
+  void handle_command(const void* string_message);
   /// Writes `message`; counts it in `sent` (if given) or in the write errors.
   bool write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>* sent);
 
   BridgeSettings settings_;
   BridgeSources sources_;
+  RemoteCommandHandler command_handler_;
   std::array<std::string, 2> optical_frames_;  // The stereo cameras' frame ids.
   JointStatesSample sample_;                   // Preallocated; the joint-state thread's only.
   JointStatesSample command_sample_;           // Likewise, the command thread's.

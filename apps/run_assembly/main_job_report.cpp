@@ -2,6 +2,7 @@
 
 #include "cambio/canopen/can_joint_group.hpp"
 #include "cambio/hal/camera_faults.hpp"
+#include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/sim/rendered_views.hpp"
 
 // What MainJob reports after a run: the loops' counters and last statuses (MainJobResult) and
@@ -33,6 +34,7 @@ void MainJob::collect(MainJobResult& result) {
   result.realtime = realtime_;
   result.loops = executor_->statistics();
   result.camera_frames = camera_loop_->frames_grabbed();
+  if (ros2_bridge_) result.ros2 = ros2_bridge_->counts();
   result.stereo_pairs = camera_loop_->pairs_published();
   for (const auto& joint_loop : joint_loops_) {
     result.watchdog_cycles += joint_loop.loop->stale_cycles();

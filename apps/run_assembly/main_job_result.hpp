@@ -11,6 +11,7 @@
 #include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/perception/ssm_server.hpp"
+#include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
 
@@ -85,6 +86,8 @@ struct MainJobResult {
   std::optional<BehaviourReport> behaviour;  ///< If the experiment has one.
   /// What the sim's cameras rendered with; none when the run made no renderer.
   std::optional<sim::RendererDescription> renderer;
+  /// What the ROS 2 bridge sent and took, if the run had one.
+  std::optional<ros2::BridgeCounts> ros2;
 };
 
 }  // namespace cambio::app

@@ -35,6 +35,13 @@ void print_device_counts(const MainJobResult& result) {
                 << " time(s), last: " << report.last_homing_error << "\n";
     }
   }
+  if (result.ros2) {
+    const ros2::BridgeCounts& c = *result.ros2;
+    std::cout << "ROS 2: " << c.joint_states << " joint states, " << c.images << " images, "
+              << c.diagnostics << " diagnostics; commands: " << c.commands_received << " taken, "
+              << c.commands_refused << " refused" << (c.write_errors > 0 ? ", WRITE ERRORS: " : "")
+              << (c.write_errors > 0 ? std::to_string(c.write_errors) : "") << "\n";
+  }
   if (result.fault_latched_at_end) {
     std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
   }

@@ -166,6 +166,19 @@ void add_execution_fields(Json& json, const MainJobResult& result) {
       group["last_homing_error"] = report.last_homing_error;
     }
   }
+  if (result.ros2) {
+    const ros2::BridgeCounts& c = *result.ros2;
+    json["ros2"] = {{"joint_states", c.joint_states},
+                    {"tf", c.tf},
+                    {"clock", c.clock},
+                    {"images", c.images},
+                    {"camera_infos", c.camera_infos},
+                    {"diagnostics", c.diagnostics},
+                    {"gaze", c.gaze},
+                    {"commands_received", c.commands_received},
+                    {"commands_refused", c.commands_refused},
+                    {"write_errors", c.write_errors}};
+  }
   if (result.renderer) {
     add_renderer_fields(json["renderer"], *result.renderer);
   } else {

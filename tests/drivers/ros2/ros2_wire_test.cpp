@@ -13,6 +13,7 @@
 #include <fstream>
 #include <future>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -175,6 +176,18 @@ class Peer {
                           dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
                                            "rt/cambio/command", nullptr, nullptr),
                           qos, nullptr);
+    {
+      // What a ROS 2 publisher with the default QoS is: reliable keep-last 10, never blocking.
+      dds_qos_t* flood = dds_create_qos();
+      dds_qset_reliability(flood, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+      dds_qset_history(flood, DDS_HISTORY_KEEP_LAST, 10);
+      flood_writer_ = dds_create_writer(
+          participant_,
+          dds_create_topic(participant_, &geometry_msgs_msg_dds__PointStamped__desc,
+                           "rt/cambio/look_at", nullptr, nullptr),
+          flood, nullptr);
+      dds_delete_qos(flood);
+    }
     refusal_reader_ =
         dds_create_reader(participant_,
                           dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
@@ -376,6 +389,15 @@ class Peer {
     message.point = {x, y, z};
     EXPECT_EQ(dds_write(look_at_writer_, &message), DDS_RETCODE_OK);
   }
+  /// Writes `count` look-at targets at once (as fast as DDS takes them); returns how many went.
+  int flood_look_at(int count, double x, double y, double z) {
+    geometry_msgs_msg_dds__PointStamped_ message{};
+    message.header.frame_id = const_cast<char*>("base");
+    message.point = {x, y, z};
+    int sent = 0;
+    for (int i = 0; i < count; ++i) sent += dds_write(flood_writer_, &message) == DDS_RETCODE_OK;
+    return sent;
+  }
   /// Sends a console line on /cambio/command, as a ROS 2 node's std_msgs/String.
   void command(const std::string& line) {
     const std_msgs_msg_dds__String_ message{const_cast<char*>(line.c_str())};
@@ -396,6 +418,7 @@ class Peer {
   dds_entity_t image_reader_ = 0;
   dds_entity_t look_at_writer_ = 0;
   dds_entity_t command_writer_ = 0;
+  dds_entity_t flood_writer_ = 0;
   dds_entity_t refusal_reader_ = 0;
   dds_entity_t description_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
@@ -699,6 +722,61 @@ TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirR
   EXPECT_TRUE(peer.refused("/cambio/command: a line longer than 1000 bytes"));
   EXPECT_FALSE(peer.refused("left_eye_pan")) << "the good line was refused";
   for (const std::string& refusal : peer.refusals) std::printf("refused: %s\n", refusal.c_str());
+}
+
+// A node that floods /cambio/look_at (20,000 targets in a burst, four times): the bridge's reader
+// keeps the newest 10 (the rest is dropped by DDS, never queued), the run counts what it took;
+// /joint_states keeps its rate through it and the eyes end on the target.
+TEST_F(Ros2Wire, AFloodOfCommandsIsDroppedAndCountedWhileTheRunGoesOn) {
+  Peer peer(domain_);
+  std::filesystem::create_directories(out_);
+  const std::filesystem::path experiment = out_ / "flood.yaml";
+  {
+    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
+    std::ofstream file(experiment);
+    file << "experiment:\n  name: flood\n  rig: " << shipped
+         << "rigs/cambio.yaml\n  scene: " << shipped
+         << "scenes/vergence.yaml\n  perception: " << shipped
+         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
+         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
+    ASSERT_TRUE(file.good());
+  }
+  auto run = std::async(std::launch::async, [&] {
+    return testing::run_cambio("run '" + experiment.string() + "' --out '" +
+                               (out_ / "out").string() + "'");
+  });
+  int sent = 0;
+  int bursts = 0;
+  while (run.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
+    peer.take();
+    if (peer.joint_states.empty() || bursts == 4) continue;
+    sent += peer.flood_look_at(20'000, 1.0, 0.14, 1.40);  // The sphere's centre.
+    ++bursts;
+  }
+  const testing::CommandResult result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  peer.take();
+  ASSERT_EQ(bursts, 4);
+  std::ifstream summary_file(out_ / "out" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  const auto taken = summary.at("ros2").at("commands_received").get<std::uint64_t>();
+  std::printf("flood: %d look-ats sent, %llu taken\n", sent,
+              static_cast<unsigned long long>(taken));
+  EXPECT_GT(taken, 0u);
+  EXPECT_LE(taken, static_cast<std::uint64_t>(sent));
+  EXPECT_EQ(summary.at("ros2").at("commands_refused").get<std::uint64_t>(), 0u);
+  // The joint states kept coming at 50 Hz of wall time: no gap of a quarter second in run time.
+  ASSERT_GE(peer.joint_states.size(), 50u);
+  double widest_gap_s = 0.0;
+  for (std::size_t i = 1; i < peer.joint_states.size(); ++i) {
+    widest_gap_s =
+        std::max(widest_gap_s, peer.joint_states[i].stamp_s - peer.joint_states[i - 1].stamp_s);
+  }
+  std::printf("flood: %zu joint states received, widest gap %.3f s\n", peer.joint_states.size(),
+              widest_gap_s);
+  EXPECT_LT(widest_gap_s, 0.25);
+  EXPECT_NEAR(peer.joint_states.back().position_rad[3] * kDegPerRad,
+              std::atan2(0.08, 0.96) * kDegPerRad, 0.3);
 }
 
 }  // namespace

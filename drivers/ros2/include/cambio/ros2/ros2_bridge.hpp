@@ -122,6 +122,8 @@ struct BridgeCounts {
   std::uint64_t camera_infos = 0;
   std::uint64_t diagnostics = 0;
   std::uint64_t gaze = 0;
+  /// Commands taken. A flood beyond the readers' keep-last 10 is dropped by DDS before the
+  /// bridge sees it (Cyclone reports no loss for keep-last): the sender knows how many it sent.
   std::uint64_t commands_received = 0;
   std::uint64_t commands_refused = 0;
   std::uint64_t write_errors = 0;

@@ -389,6 +389,13 @@ class Peer {
     message.point = {x, y, z};
     EXPECT_EQ(dds_write(look_at_writer_, &message), DDS_RETCODE_OK);
   }
+  /// Takes for another half second: what the run's writers linger to deliver after it ended.
+  void drain() {
+    for (int i = 0; i < 25; ++i) {
+      take();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
   /// Writes `count` look-at targets at once (as fast as DDS takes them); returns how many went.
   int flood_look_at(int count, double x, double y, double z) {
     geometry_msgs_msg_dds__PointStamped_ message{};
@@ -441,6 +448,22 @@ class Ros2Wire : public ::testing::Test {
         std::filesystem::temp_directory_path() / ("cambio_ros2_wire_" + std::to_string(getpid()));
   }
   void TearDown() override { std::filesystem::remove_all(out_); }
+
+  /// A 4 s gaze run on the wall clock (so that a peer has time to be heard) with no gaze
+  /// commands of its own: ROS 2's are its commands. Returns the experiment file.
+  std::filesystem::path write_commanded_experiment(const std::string& name) {
+    std::filesystem::create_directories(out_);
+    const std::filesystem::path experiment = out_ / (name + ".yaml");
+    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
+    std::ofstream file(experiment);
+    file << "experiment:\n  name: " << name << "\n  rig: " << shipped
+         << "rigs/cambio.yaml\n  scene: " << shipped
+         << "scenes/vergence.yaml\n  perception: " << shipped
+         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
+         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
+    EXPECT_TRUE(file.good());
+    return experiment;
+  }
 
   dds_domainid_t domain_ = 0;
   std::filesystem::path out_;
@@ -635,18 +658,7 @@ TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReason
   // Both eyes start straight ahead; the run has no gaze commands of its own (ROS 2's are its
   // commands). On the wall clock, so that the peer has time to be heard.
   const double left_truth_deg = std::atan2(0.08, 0.96) * kDegPerRad;
-  std::filesystem::create_directories(out_);
-  const std::filesystem::path experiment = out_ / "look_at.yaml";
-  {
-    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
-    std::ofstream file(experiment);
-    file << "experiment:\n  name: look_at\n  rig: " << shipped
-         << "rigs/cambio.yaml\n  scene: " << shipped
-         << "scenes/vergence.yaml\n  perception: " << shipped
-         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
-         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
-    ASSERT_TRUE(file.good());
-  }
+  const std::filesystem::path experiment = write_commanded_experiment("look_at");
   auto run = std::async(std::launch::async, [&] {
     return testing::run_cambio("run '" + experiment.string() + "' --out '" +
                                (out_ / "out").string() + "'");
@@ -660,10 +672,7 @@ TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReason
   }
   const testing::CommandResult result = run.get();
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (int i = 0; i < 25; ++i) {
-    peer.take();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  peer.drain();
   ASSERT_FALSE(peer.joint_states.empty());
   EXPECT_NEAR(peer.joint_states.back().position_rad[3] * kDegPerRad, left_truth_deg, 0.3);
   const auto refused = [&](const std::string& what) {
@@ -681,18 +690,7 @@ TEST_F(Ros2Wire, ALookAtFromAPeerTurnsTheEyesAndBadOnesAreRefusedWithTheirReason
 // no joint and an endless one are refused with their reasons on /cambio/refusals.
 TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirReasons) {
   Peer peer(domain_);
-  std::filesystem::create_directories(out_);
-  const std::filesystem::path experiment = out_ / "command.yaml";
-  {
-    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
-    std::ofstream file(experiment);
-    file << "experiment:\n  name: command\n  rig: " << shipped
-         << "rigs/cambio.yaml\n  scene: " << shipped
-         << "scenes/vergence.yaml\n  perception: " << shipped
-         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
-         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
-    ASSERT_TRUE(file.good());
-  }
+  const std::filesystem::path experiment = write_commanded_experiment("command");
   auto run = std::async(std::launch::async, [&] {
     return testing::run_cambio("run '" + experiment.string() + "' --out '" +
                                (out_ / "out").string() + "'");
@@ -710,10 +708,7 @@ TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirR
   }
   const testing::CommandResult result = run.get();
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (int i = 0; i < 25; ++i) {
-    peer.take();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  peer.drain();
   ASSERT_FALSE(peer.joint_states.empty());
   EXPECT_NEAR(peer.joint_states.back().position_rad[3] * kDegPerRad, 5.0, 0.3);
   EXPECT_TRUE(peer.refused("/cambio/command: 'wait' is for the console's own session"));
@@ -729,18 +724,7 @@ TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirR
 // /joint_states keeps its rate through it and the eyes end on the target.
 TEST_F(Ros2Wire, AFloodOfCommandsIsDroppedAndCountedWhileTheRunGoesOn) {
   Peer peer(domain_);
-  std::filesystem::create_directories(out_);
-  const std::filesystem::path experiment = out_ / "flood.yaml";
-  {
-    const std::string shipped = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/";
-    std::ofstream file(experiment);
-    file << "experiment:\n  name: flood\n  rig: " << shipped
-         << "rigs/cambio.yaml\n  scene: " << shipped
-         << "scenes/vergence.yaml\n  perception: " << shipped
-         << "perception/vergence.yaml\n  executor: realtime\n  duration_s: 4\n  task: gaze\n"
-         << "  ros2: {domain_id: " << domain_ << ", commands: true, images_hz: 0}\n";
-    ASSERT_TRUE(file.good());
-  }
+  const std::filesystem::path experiment = write_commanded_experiment("flood");
   auto run = std::async(std::launch::async, [&] {
     return testing::run_cambio("run '" + experiment.string() + "' --out '" +
                                (out_ / "out").string() + "'");

@@ -66,8 +66,9 @@ Entry drive_entry(const std::string& joint, const std::string& group,
   return entry;
 }
 
-Entry can_group_entry(const canopen::CanJointGroup& group) {
-  const canopen::CanGroupCounters c = group.counters();
+/// `load`: the bus's worst-case load over the last window (negative: not measured yet).
+Entry can_group_entry(const canopen::CanJointGroup& group, const canopen::CanGroupCounters& c,
+                      double load) {
   Entry entry;
   entry.name = "cambio: CAN group " + group.info().name;
   entry.hardware_id = "CAN group " + group.info().name;
@@ -75,21 +76,26 @@ Entry can_group_entry(const canopen::CanJointGroup& group) {
                                c.tx_queue_full + c.reconfiguration_failures + c.homing_failures;
   entry.level = c.bus_faults > 0 ? Level::kError : errors > 0 ? Level::kWarn : Level::kOk;
   entry.message = errors == 0 ? "no errors" : count(errors) + " error(s) since start";
-  entry.values = {{"rate_hz", number(group.rate_hz())},
-                  {"syncs_sent", count(c.syncs_sent)},
-                  {"tpdos_received", count(c.tpdos_received)},
-                  {"missed_sync_answers", count(c.missed_sync_answers)},
-                  {"late_tpdos", count(c.late_tpdos)},
-                  {"malformed_frames", count(c.malformed_frames)},
-                  {"unexpected_frames", count(c.unexpected_frames)},
-                  {"tx_queue_full", count(c.tx_queue_full)},
-                  {"emergencies", count(c.emergencies)},
-                  {"error_frames", count(c.error_frames)},
-                  {"boot_ups", count(c.boot_ups)},
-                  {"bus_faults", count(c.bus_faults)},
-                  {"reconfigurations", count(c.reconfigurations)},
-                  {"homings_on_request", count(c.homings)},
-                  {"homing_failures", count(c.homing_failures)}};
+  entry.values = {
+      {"rate_hz", number(group.rate_hz())},
+      {"bus_load", load < 0.0 ? std::string("not measured yet") : number(load, "%.3f")},
+      {"bus_bitrate_bit_s", count(static_cast<std::uint64_t>(group.bus_bitrate_bit_s()))},
+      {"frames_sent", count(c.frames_sent)},
+      {"frames_received", count(c.frames_received)},
+      {"syncs_sent", count(c.syncs_sent)},
+      {"tpdos_received", count(c.tpdos_received)},
+      {"missed_sync_answers", count(c.missed_sync_answers)},
+      {"late_tpdos", count(c.late_tpdos)},
+      {"malformed_frames", count(c.malformed_frames)},
+      {"unexpected_frames", count(c.unexpected_frames)},
+      {"tx_queue_full", count(c.tx_queue_full)},
+      {"emergencies", count(c.emergencies)},
+      {"error_frames", count(c.error_frames)},
+      {"boot_ups", count(c.boot_ups)},
+      {"bus_faults", count(c.bus_faults)},
+      {"reconfigurations", count(c.reconfigurations)},
+      {"homings_on_request", count(c.homings)},
+      {"homing_failures", count(c.homing_failures)}};
   const canopen::HomingError homing = group.last_homing_error();
   if (homing.node_id != 0) entry.values.emplace_back("last_homing_error", homing.text.data());
   return entry;
@@ -144,6 +150,8 @@ ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs) {
     DiagnosticsInputs inputs;
     std::vector<std::uint64_t> window_cycles;
     std::vector<double> rate_hz;
+    std::vector<std::uint64_t> window_bus_bits;  // Per CAN group.
+    std::vector<double> bus_load;
     std::int64_t window_start_ns = -1;
   };
   constexpr std::int64_t kMinWindowNs = 200'000'000;
@@ -165,6 +173,20 @@ ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs) {
       if (window_ends) state->window_cycles[i] = loops[i].cycles;
       entries.push_back(loop_entry(loops[i], state->rate_hz[i]));
     }
+    std::vector<Entry> can_entries;
+    state->window_bus_bits.resize(in.can_groups.size(), 0);
+    state->bus_load.resize(in.can_groups.size(), -1.0);
+    for (std::size_t g = 0; g < in.can_groups.size(); ++g) {
+      const canopen::CanJointGroup& group = *in.can_groups[g];
+      const canopen::CanGroupCounters counters = group.counters();
+      if (window_ends && state->window_start_ns >= 0 && group.bus_bitrate_bit_s() > 0) {
+        state->bus_load[g] = static_cast<double>(counters.bus_bits - state->window_bus_bits[g]) /
+                             (static_cast<double>(window_ns) * 1e-9) /
+                             static_cast<double>(group.bus_bitrate_bit_s());
+      }
+      if (window_ends) state->window_bus_bits[g] = counters.bus_bits;
+      can_entries.push_back(can_group_entry(group, counters, state->bus_load[g]));
+    }
     if (window_ends) state->window_start_ns = stamp_ns;
     control::JointStateFrame frame;
     for (const DiagnosticsInputs::JointLoopView& view : in.joint_loops) {
@@ -176,9 +198,7 @@ ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs) {
         entries.push_back(drive_entry(in.joint_names[rig], in.joint_groups[rig], frame.states[j]));
       }
     }
-    for (const canopen::CanJointGroup* group : in.can_groups) {
-      entries.push_back(can_group_entry(*group));
-    }
+    for (Entry& entry : can_entries) entries.push_back(std::move(entry));
     return true;
   };
 }

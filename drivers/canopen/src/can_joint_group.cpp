@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cambio/canopen/can_bus_load.hpp"
+
 namespace cambio::canopen {
 
 CanJointGroup::CanJointGroup(hal::JointGroupInfo info, CanGroupSettings settings,
@@ -348,10 +350,15 @@ hal::Status CanJointGroup::read(std::span<hal::JointState> out, std::int64_t& st
   hal::CanFrame frame;
   std::size_t received = 0;
   const std::size_t cap = max_frames_per_read();
+  std::uint64_t received_bits = 0;
   while (received < cap && bus_.receive(frame) == hal::Status::kOk) {
     dispatch(frame, now_ns);
+    if (!frame.error_frame)
+      received_bits += static_cast<std::uint64_t>(can_frame_worst_case_bits(frame.length));
     ++received;
   }
+  bump(counters_.frames_received, received);
+  bump(counters_.bus_bits, received_bits);
   if (received == cap) bump(counters_.receive_cap_reached);
   check_bus();
   run_reconfiguration(now_ns);
@@ -455,6 +462,12 @@ hal::Status CanJointGroup::sync() {
   if (!written_) build_rpdos(false);
   written_ = false;
   const std::size_t sent = bus_.send_batch(std::span(tx_).first(tx_count_));
+  std::uint64_t sent_bits = 0;
+  for (std::size_t i = 0; i < sent; ++i) {
+    sent_bits += static_cast<std::uint64_t>(can_frame_worst_case_bits(tx_[i].length));
+  }
+  bump(counters_.frames_sent, sent);
+  bump(counters_.bus_bits, sent_bits);
   const std::int64_t now_ns = clock_.now_ns();
   const bool with_sdo = extra_frame() != nullptr;
   const std::size_t sync_count = tx_count_ - (with_sdo ? 1 : 0);
@@ -533,6 +546,9 @@ CanGroupCounters CanJointGroup::counters() const {
           load(counters_.reconfigurations),
           load(counters_.reconfiguration_failures),
           load(counters_.receive_cap_reached),
+          load(counters_.frames_sent),
+          load(counters_.frames_received),
+          load(counters_.bus_bits),
           load(counters_.homings),
           load(counters_.homing_failures)};
 }

@@ -150,6 +150,7 @@ std::unique_ptr<hal::JointGroup> SocketCanBackend::make_joint_group(std::string_
   }
   auto group = std::make_unique<CanJointGroup>(*info, can_group->settings, std::move(drives),
                                                rate_hz, *bus.bus, clock_);
+  group->set_bus_bitrate(bus_info->bitrate_bit_s);
   auto handle = std::make_unique<CanJointGroupHandle>(*group);
   buses_.emplace(bus_info->name, std::move(bus));
   groups_.emplace(std::string(group_name), std::move(group));

@@ -4,6 +4,7 @@
 // fault, bad frames, a rebooted drive configured again from the loop, effort in N m against the
 // closed form, bus-off and its recovery, and no allocation in read/write/sync.
 #include "cambio/canopen/can_joint_group.hpp"
+#include "cambio/canopen/can_bus_load.hpp"
 
 #include <gtest/gtest.h>
 
@@ -114,6 +115,38 @@ struct Fixture {
   std::vector<hal::JointState> states;
   std::vector<hal::JointCommand> commands;
 };
+
+// The group's count of its bus's traffic (one group per bus) against a listener on the same bus:
+// every frame the group sent and every drive's answer, their worst-case bits summed as
+// can_frame_worst_case_bits says (SYNC 55 bits, 8 data bytes 135).
+TEST(CanJointGroup, CountsEveryFrameOnItsBusAndItsBitsAsAListenerSeesThem) {
+  Fixture f(2);
+  hal::CanBus& listener = f.network.add_endpoint("listener", 1 << 16);
+  const canopen::CanGroupCounters before = f.group->counters();
+  ASSERT_EQ(f.group->request(DriveRequest::kEnable), hal::Status::kOk);
+  for (int k = 0; k < 200; ++k) {
+    if (k % 50 == 0) {
+      for (auto& drive : f.drives) drive->send_heartbeat();
+    }
+    (void)f.cycle();
+  }
+  std::int64_t stamp_ns = 0;
+  (void)f.group->read(f.states, stamp_ns);  // The drives' last answers.
+  std::uint64_t frames = 0;
+  std::uint64_t bits = 0;
+  hal::CanFrame frame;
+  while (listener.receive(frame) == hal::Status::kOk) {
+    ++frames;
+    bits += static_cast<std::uint64_t>(canopen::can_frame_worst_case_bits(frame.length));
+  }
+  const canopen::CanGroupCounters after = f.group->counters();
+  EXPECT_EQ(after.frames_sent - before.frames_sent + after.frames_received - before.frames_received,
+            frames);
+  EXPECT_EQ(after.bus_bits - before.bus_bits, bits);
+  // Two drives: at least RPDO1 each and a SYNC per cycle, and each drive's TPDO1 answer.
+  EXPECT_GE(after.frames_sent - before.frames_sent, 3u * 200u);
+  EXPECT_GE(after.frames_received - before.frames_received, 2u * 199u);
+}
 
 TEST(CanJointGroup, EnableWalksCia402AndStartsAtTheMeasuredPosition) {
   Fixture f;

@@ -59,6 +59,12 @@ struct CanGroupCounters {
   /// Cycles whose read() stopped at max_frames_per_read(): the frames still queued wait for the
   /// next cycle (a flooded bus cannot hold the joint loop).
   std::uint64_t receive_cap_reached = 0;
+  /// Every frame this group sent and took off its bus (one group per bus: the bus's whole
+  /// traffic), and their bits on the wire in the worst case (can_frame_worst_case_bits): the
+  /// bus load is the bits' growth per second over the bitrate.
+  std::uint64_t frames_sent = 0;
+  std::uint64_t frames_received = 0;
+  std::uint64_t bus_bits = 0;
   std::uint64_t homings = 0;          ///< Loop-side homings that completed (kHome requests).
   std::uint64_t homing_failures = 0;  ///< Loop-side homings that failed (last_homing_error()).
 };
@@ -89,6 +95,9 @@ class CanJointGroup final : public hal::JointGroup {
   // Lifecycle, called by the backend outside the loop.
   const PdoLayout& layout() const { return layout_; }
   double rate_hz() const { return rate_hz_; }
+  /// The bus's (nominal) bitrate, for its load; 0: unknown. Set by the backend before the loops.
+  void set_bus_bitrate(std::int64_t bitrate_bit_s) { bus_bitrate_bit_s_ = bitrate_bit_s; }
+  std::int64_t bus_bitrate_bit_s() const { return bus_bitrate_bit_s_; }
   hal::CanBus& bus() { return bus_; }
   std::size_t size() const { return slots_.size(); }
   const Cia402Drive& drive(std::size_t joint) const { return slots_[joint].drive; }
@@ -172,6 +181,7 @@ class CanJointGroup final : public hal::JointGroup {
   hal::JointGroupInfo info_;
   CanGroupSettings settings_;
   double rate_hz_;
+  std::int64_t bus_bitrate_bit_s_ = 0;
   hal::CanBus& bus_;
   const hal::Clock& clock_;
   PdoLayout layout_;
@@ -201,7 +211,8 @@ class CanJointGroup final : public hal::JointGroup {
     std::atomic<std::uint64_t> syncs_sent{0}, tpdos_received{0}, missed_sync_answers{0},
         late_tpdos{0}, malformed_frames{0}, unexpected_frames{0}, tx_queue_full{0}, emergencies{0},
         error_frames{0}, boot_ups{0}, bus_faults{0}, reconfigurations{0},
-        reconfiguration_failures{0}, receive_cap_reached{0}, homings{0}, homing_failures{0};
+        reconfiguration_failures{0}, receive_cap_reached{0}, frames_sent{0}, frames_received{0},
+        bus_bits{0}, homings{0}, homing_failures{0};
   } counters_;
 };
 

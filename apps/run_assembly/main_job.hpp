@@ -207,6 +207,9 @@ class MainJob {
   control::GazeLoop* gaze_loop_ = nullptr;      // control_loop_ when the task is gaze.
   control::PoseHoldLoop* pose_hold_ = nullptr;  // control_loop_ otherwise.
   hal::SeqlockChannel<control::GazeCommand> gaze_commands_;
+  // Joint trajectories (from ROS 2) for the gaze loop's head joints and the arm loop's.
+  hal::SeqlockChannel<control::JointTrajectory> head_trajectories_;
+  hal::SeqlockChannel<control::JointTrajectory> arm_trajectories_;
   hal::SeqlockChannel<perception::FeatureRequest> feature_requests_;
   std::unique_ptr<control::CommandScript> script_;  // The experiment's timed commands.
   // The arms: their touch sensors by side ([0] left, [1] right), the loop, its commands.

@@ -23,7 +23,12 @@ void MainJob::build_actions() {
   actions_ = std::make_unique<RobotActions>(
       hardware_, std::move(setup),
       RobotActions::Channels{&gaze_commands_, arm_loop_ ? &arm_commands_ : nullptr,
-                             &feature_requests_});
+                             &feature_requests_, &head_trajectories_,
+                             arm_loop_ ? &arm_trajectories_ : nullptr});
+  std::vector<control::BelievedJoints::Source> measured;
+  for (const auto& slot : joint_loops_) measured.push_back({slot.states.get(), slot.rig_indices});
+  actions_->set_measured_joints(
+      control::BelievedJoints(std::move(measured), static_cast<int>(joint_order_.size())));
 }
 
 void MainJob::build_behaviour(const perception::SsmConfig& ssm) {

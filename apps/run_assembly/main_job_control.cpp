@@ -32,6 +32,7 @@ void MainJob::build_gaze_loop(const control::JointTargetFrame& pose) {
       perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
   gaze_loop_ = loop.get();
   gaze_loop_->set_extra_features(&feature_requests_);
+  gaze_loop_->set_trajectories(&head_trajectories_);
   control_loop_ = std::move(loop);
   // The script runs at the control rate, before the gaze loop in each lockstep tick. A
   // behaviour takes its place as the gaze commands' writer (the loader allows only one).
@@ -57,6 +58,7 @@ void MainJob::build_arm_loop(const control::JointTargetFrame& pose,
   // The gaze loop publishes every joint's target: it takes the arms' from the arm loop, which
   // runs before it in each control tick (same rate and priority run in the order added).
   gaze_loop_->set_overlay(&arm_loop_->targets(), arm_loop_->arm_rig_indices());
+  arm_loop_->set_trajectories(&arm_trajectories_);
   executor_->add_loop({arm_loop_.get(), loop_schedule(experiment_.rig, "control")});
 }
 

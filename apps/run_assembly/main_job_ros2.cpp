@@ -20,6 +20,26 @@ std::int64_t clock_ns(clockid_t clock) {
   return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
 }
 
+// A ROS joint trajectory (its sizes checked by the bridge) to the loops through RobotActions.
+std::string send_trajectory(RobotActions& actions, const ros2::TrajectoryMessage& message) {
+  control::JointTrajectory trajectory;
+  const std::size_t joints = message.joint_names.size();
+  trajectory.joint_count = static_cast<int>(joints);
+  trajectory.point_count = static_cast<int>(message.time_from_start_s.size());
+  trajectory.has_velocities = !message.velocities_rad_s.empty();
+  for (std::size_t k = 0; k < message.time_from_start_s.size(); ++k) {
+    trajectory.time_from_start_s[k] = message.time_from_start_s[k];
+    for (std::size_t j = 0; j < joints; ++j) {
+      trajectory.positions_rad[k][j] = message.positions_rad[k * joints + j];
+      if (trajectory.has_velocities) {
+        trajectory.velocities_rad_s[k][j] = message.velocities_rad_s[k * joints + j];
+      }
+    }
+  }
+  const behaviour::ActionResult result = actions.follow_trajectory(message.joint_names, trajectory);
+  return result.sent ? std::string() : result.message;
+}
+
 }  // namespace
 
 void MainJob::build_ros2_bridge() {
@@ -102,6 +122,11 @@ void MainJob::build_ros2_bridge() {
       const behaviour::ActionResult result = actions->look_at_point(p_base_m);
       return result.sent ? std::string() : result.message;
     };
+    sources.joint_trajectory = [actions = actions_.get()](const ros2::TrajectoryMessage& message) {
+      return send_trajectory(*actions, message);
+    };
+    sources.trajectory_max_points = control::JointTrajectory::kMaxPoints;
+    sources.trajectory_max_joints = control::JointTrajectory::kMaxJoints;
   }
   ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
 }

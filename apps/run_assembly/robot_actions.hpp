@@ -1,14 +1,18 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "cambio/behaviour/behaviour.hpp"
 #include "cambio/control/arm_command.hpp"
+#include "cambio/control/believed_joints.hpp"
 #include "cambio/control/gaze_command.hpp"
+#include "cambio/control/joint_trajectory.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
 
@@ -43,6 +47,9 @@ class RobotActions final : public behaviour::Actions {
     hal::SeqlockChannel<control::GazeCommand>* gaze = nullptr;
     hal::SeqlockChannel<control::ArmCommand>* arms = nullptr;
     hal::SeqlockChannel<perception::FeatureRequest>* features = nullptr;
+    /// Joint trajectories for the gaze loop (head joints) and the arm loop; null: none.
+    hal::SeqlockChannel<control::JointTrajectory>* head_trajectories = nullptr;
+    hal::SeqlockChannel<control::JointTrajectory>* arm_trajectories = nullptr;
   };
 
   /// Throws std::invalid_argument for a joint in `setup` that `hardware` does not describe, or
@@ -64,10 +71,22 @@ class RobotActions final : public behaviour::Actions {
   behaviour::ActionResult move_joint(std::string_view joint_name, double position_rad) override;
   behaviour::ActionResult request_features(const perception::FeatureRequest& features) override;
 
+  /// Where the joints are, for trajectories to start from (set before the run; without it
+  /// trajectories are refused).
+  void set_measured_joints(control::BelievedJoints measured);
+  /// Sends `trajectory` (every field but joint_rig_index and sequence) for the joints `names`
+  /// (its joint_count of them): to the gaze loop when they are all the head's, to the arm loop
+  /// when they are all the arms'. Refused, saying why, for an unknown or repeated joint, head and
+  /// arm joints together, or anything check_joint_trajectory() finds against the joints' limits
+  /// and where they are measured now.
+  behaviour::ActionResult follow_trajectory(std::span<const std::string> names,
+                                            control::JointTrajectory trajectory);
+
   bool verging() const;
   /// Commands sent so far on each channel.
   std::uint64_t gaze_commands_sent() const;
   std::uint64_t arm_commands_sent() const;
+  std::uint64_t trajectories_sent() const;
 
  private:
   behaviour::ActionResult pixel_command(control::GazeAction action, double u_px, double v_px);
@@ -81,6 +100,10 @@ class RobotActions final : public behaviour::Actions {
     bool head = false;
   };
 
+  /// The joint of that name, or end() with `why` saying so (and the nearest name).
+  std::vector<Joint>::const_iterator find_joint(std::string_view joint_name,
+                                                std::string& why) const;
+
   std::vector<Joint> joints_;  // Rig order.
   int image_width_px_ = 0;
   int image_height_px_ = 0;
@@ -89,6 +112,9 @@ class RobotActions final : public behaviour::Actions {
   bool verge_ = true;
   std::uint64_t gaze_sequence_ = 0;
   std::uint64_t arm_sequence_ = 0;
+  std::uint64_t trajectory_sequence_ = 0;
+  std::unique_ptr<control::BelievedJoints> measured_;  // Read under mutex_.
+  std::vector<double> measured_rad_;                   // Rig order; under mutex_.
 };
 
 }  // namespace cambio::app

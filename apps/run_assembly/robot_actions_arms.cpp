@@ -56,18 +56,25 @@ behaviour::ActionResult RobotActions::release(control::ArmSide arm) {
   return send(command);
 }
 
-behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, double position_rad) {
+std::vector<RobotActions::Joint>::const_iterator RobotActions::find_joint(
+    std::string_view joint_name, std::string& why) const {
   const auto joint = std::find_if(joints_.begin(), joints_.end(),
                                   [&](const Joint& j) { return j.name == joint_name; });
   if (joint == joints_.end()) {
     std::vector<std::string> names;
     for (const Joint& j : joints_) names.push_back(j.name);
-    std::string why = "no joint " + config::in_quotes(joint_name);
+    why = "no joint " + config::in_quotes(joint_name);
     if (const auto near = config::closest_name(joint_name, names)) {
       why += "; did you mean " + config::in_quotes(*near) + "?";
     }
-    return refused(why);
   }
+  return joint;
+}
+
+behaviour::ActionResult RobotActions::move_joint(std::string_view joint_name, double position_rad) {
+  std::string why;
+  const auto joint = find_joint(joint_name, why);
+  if (joint == joints_.end()) return refused(why);
   if (!std::isfinite(position_rad)) return refused(joint->name + ": the angle is not finite");
   const double clamped =
       std::clamp(position_rad, joint->limits.min_position_rad, joint->limits.max_position_rad);

@@ -125,6 +125,13 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
     last_command_sequence_ = command.sequence;
     apply(command, now_ns);
   }
+  // An unwritten channel holds a zero sequence: no trajectory.
+  if (trajectories_ != nullptr && trajectories_->version() > 0 &&
+      trajectories_->read(trajectory_) && trajectory_.sequence != 0 &&
+      trajectory_.sequence != last_trajectory_sequence_) {
+    last_trajectory_sequence_ = trajectory_.sequence;
+    start_trajectory(now_ns);
+  }
   status_.joints_held = tracking == CommandTracking::Step::kFrozen;
   switch (tracking) {
     case CommandTracking::Step::kFollow:
@@ -143,6 +150,18 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
       return hal::Status::kFault;
   }
   step_arms(now_ns, dt_s);
+  if (follower_.active()) {
+    // A gripper the trajectory moves keeps where it put it as its goal.
+    std::array<bool, 2> grippers{};
+    for (std::size_t side = 0; side < 2; ++side) {
+      grippers[side] = arms_[side].present && follower_.drives(arms_[side].chain.joints[4]);
+    }
+    (void)follower_.step(now_ns, q_command_tree_);
+    for (std::size_t side = 0; side < 2; ++side) {
+      if (grippers[side])
+        arms_[side].gripper_goal_rad = q_command_tree_[at(arms_[side].chain.joints[4])];
+    }
+  }
   for (std::size_t side = 0; side < 2; ++side) {
     if (gripper_tracked_[side] < 0) continue;
     // Closing, the fingers stop on what they hold while the command goes on: that lag is the
@@ -201,11 +220,13 @@ void ArmReachLoop::publish(std::int64_t now_ns) noexcept {
 
 void ArmReachLoop::restart_from_measured(std::int64_t now_ns) noexcept {
   tracking_.restart(q_command_tree_, q_believed_tree_);
+  follower_.stop();  // Its timing is gone: the arms hold where they are.
   for (Arm& arm : arms_) arm.ramp_from_ns = now_ns;
 }
 
 void ArmReachLoop::stop_on_tracking_fault() noexcept {
   tracking_.restart(q_command_tree_, q_believed_tree_);
+  follower_.stop();
   for (int side = 0; side < 2; ++side) {
     Arm& arm = arms_[at(side)];
     if (!arm.present) continue;
@@ -226,6 +247,9 @@ void ArmReachLoop::apply(const ArmCommand& command, std::int64_t now_ns) noexcep
   const bool left = command.arm != ArmSide::kRight && arms_[0].present;
   const bool right = command.arm != ArmSide::kLeft && arms_[1].present;
   const std::array<bool, 2> sides{left, right};
+  if (command.action != ArmAction::kGrasp && command.action != ArmAction::kRelease) {
+    follower_.stop();
+  }
   switch (command.action) {
     case ArmAction::kHold:
       for (int side = 0; side < 2; ++side) {
@@ -259,6 +283,61 @@ void ArmReachLoop::set_gripper_goals(ArmAction action, const std::array<bool, 2>
       opening = std::max(opening, q_believed_tree_[at(chain.joints[4])]);
     }
   }
+}
+
+bool ArmReachLoop::find_arm_joint(int rig_index, int& side, std::size_t& k) const noexcept {
+  for (side = 0; side < 2; ++side) {
+    const Arm& arm = arms_[at(side)];
+    if (!arm.present) continue;
+    for (k = 0; k < 5; ++k) {
+      if (arm.chain.rig[k] == rig_index) return true;
+    }
+  }
+  return false;
+}
+
+void ArmReachLoop::start_trajectory(std::int64_t now_ns) noexcept {
+  if (tracking_.faulted()) {
+    std::snprintf(status_.message.data(), status_.message.size(),
+                  "an arm joint does not follow its command (tracking fault): the arms hold");
+    return;
+  }
+  const JointTrajectory& trajectory = trajectory_;
+  if (trajectory.joint_count < 1 || trajectory.joint_count > JointTrajectory::kMaxJoints ||
+      trajectory.point_count < 1 || trajectory.point_count > JointTrajectory::kMaxPoints) {
+    std::snprintf(status_.message.data(), status_.message.size(),
+                  "joint trajectory: %d joints, %d points", trajectory.joint_count,
+                  trajectory.point_count);
+    return;
+  }
+  std::array<bool, 2> arms_named{};
+  for (int j = 0; j < trajectory.joint_count; ++j) {
+    int side = 0;
+    std::size_t k = 0;
+    if (!find_arm_joint(trajectory.joint_rig_index[at(j)], side, k)) {
+      std::snprintf(status_.message.data(), status_.message.size(),
+                    "joint trajectory: rig joint %d is not an arm joint",
+                    trajectory.joint_rig_index[at(j)]);
+      return;
+    }
+    // The sender checked the trajectory (check_joint_trajectory); the limits are held here too.
+    const hal::JointLimits& limits = arms_[at(side)].chain.limits[k];
+    for (int p = 0; p < trajectory.point_count; ++p) {
+      const double q = trajectory.positions_rad[at(p)][at(j)];
+      if (!(q >= limits.min_position_rad && q <= limits.max_position_rad)) {
+        std::snprintf(status_.message.data(), status_.message.size(),
+                      "joint trajectory: point %d of rig joint %d beyond its limits", p,
+                      trajectory.joint_rig_index[at(j)]);
+        return;
+      }
+    }
+    arms_named[at(side)] = true;
+  }
+  ++status_.commands_applied;
+  for (int side = 0; side < 2; ++side) {
+    if (arms_named[at(side)]) stop(side);
+  }
+  follower_.start(trajectory, rig_to_tree_, q_command_tree_, now_ns);
 }
 
 void ArmReachLoop::move_joint(const ArmCommand& command) noexcept {

@@ -152,6 +152,13 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     last_command_sequence_ = command.sequence;
     apply(command, now_ns);
   }
+  // An unwritten channel holds a zero sequence: no trajectory.
+  if (trajectories_ != nullptr && trajectories_->version() > 0 &&
+      trajectories_->read(trajectory_) && trajectory_.sequence != 0 &&
+      trajectory_.sequence != last_trajectory_sequence_) {
+    last_trajectory_sequence_ = trajectory_.sequence;
+    start_trajectory(now_ns);
+  }
   update_belief(now_ns);
   const CommandTracking::Step tracking = tracking_.step(believed_);
   // An unwritten channel holds FeatureRequest{} (everything): nobody asked for it yet.
@@ -201,6 +208,14 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     case Mode::kHold:
       if (move_joint_ >= 0) step_move(dt_s);
       break;
+    case Mode::kTrajectory:
+      if (!follower_.step(now_ns, q_command_tree_)) {
+        // The last point written: the head holds there, vergence as the trajectory left it.
+        mode_ = Mode::kHold;
+        vergence_rad_ = commanded_vergence_rad();
+        verged_ = false;
+      }
+      break;
     case Mode::kFixate:
       servo_step(1.0, dt_s);
       break;
@@ -239,7 +254,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
       break;
     }
   }
-  if (mode_ != Mode::kSaccade) {
+  if (mode_ != Mode::kSaccade && mode_ != Mode::kTrajectory) {
     if (new_summary && verge_ && params_.vergence_enabled) verge(summary_);
     clamp_vergence();
     place_verging_eye();
@@ -280,6 +295,10 @@ void GazeLoop::restart_from_measured(std::int64_t now_ns) noexcept {
   pending_jump_rad_ = 0.0;
   weak_pending_ = false;
   if (mode_ == Mode::kSaccade) start_saccade(now_ns);
+  if (mode_ == Mode::kTrajectory) {
+    follower_.stop();
+    mode_ = Mode::kHold;
+  }
 }
 
 void GazeLoop::step_move(double dt_s) noexcept {
@@ -306,6 +325,7 @@ void GazeLoop::stop_on_tracking_fault() noexcept {
   vergence_rad_ = commanded_vergence_rad();
   mode_ = Mode::kHold;
   move_joint_ = -1;
+  follower_.stop();
   pursuit_.stop();
   status_.tracking_fault = true;
 }
@@ -322,6 +342,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
     return;
   }
   move_joint_ = -1;
+  follower_.stop();
   command_ = command;
   verge_ = command.verge;
   verged_ = false;  // A new gaze target: its first measurements are believed as they come.
@@ -375,13 +396,50 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   request_features();
 }
 
+void GazeLoop::start_trajectory(std::int64_t now_ns) noexcept {
+  if (tracking_.faulted()) {
+    refuse(GazeRefusal::kTrackingFault);
+    return;
+  }
+  const JointTrajectory& trajectory = trajectory_;
+  bool valid = trajectory.joint_count >= 1 &&
+               trajectory.joint_count <= JointTrajectory::kMaxJoints &&
+               trajectory.point_count >= 1 && trajectory.point_count <= JointTrajectory::kMaxPoints;
+  for (int j = 0; valid && j < trajectory.joint_count; ++j) {
+    const int rig_index = trajectory.joint_rig_index[at(j)];
+    valid = rig_index >= 0 && rig_index < pose_.count && is_head_joint(rig_to_tree_[at(rig_index)]);
+  }
+  // The sender checked the trajectory against the limits (check_joint_trajectory); what reaches
+  // the drives is clamped all the same.
+  for (int k = 0; valid && k < trajectory.point_count; ++k) {
+    for (int j = 0; valid && j < trajectory.joint_count; ++j) {
+      const hal::JointLimits& limits =
+          limits_tree_[at(rig_to_tree_[at(trajectory.joint_rig_index[at(j)])])];
+      const double q = trajectory.positions_rad[at(k)][at(j)];
+      valid = q >= limits.min_position_rad && q <= limits.max_position_rad;
+    }
+  }
+  if (!valid) {
+    refuse(GazeRefusal::kNotAHeadJoint);
+    return;
+  }
+  ++status_.commands_applied;
+  move_joint_ = -1;
+  pursuit_.stop();
+  mode_ = Mode::kTrajectory;
+  follower_.start(trajectory, rig_to_tree_, q_command_tree_, now_ns);
+}
+
+bool GazeLoop::is_head_joint(int tree_index) const noexcept {
+  return tree_index == head_.neck_pan || tree_index == head_.neck_tilt ||
+         tree_index == head_.eye_tilt || tree_index == head_.eye_pan[0] ||
+         tree_index == head_.eye_pan[1];
+}
+
 bool GazeLoop::move_joint(int rig_index, double position_rad) noexcept {
   if (rig_index < 0 || rig_index >= pose_.count || !std::isfinite(position_rad)) return false;
   const int joint = rig_to_tree_[at(rig_index)];
-  const bool head_joint = joint == head_.neck_pan || joint == head_.neck_tilt ||
-                          joint == head_.eye_tilt || joint == head_.eye_pan[0] ||
-                          joint == head_.eye_pan[1];
-  if (!head_joint) return false;  // The arms' joints are the arm loop's.
+  if (!is_head_joint(joint)) return false;  // The arms' joints are the arm loop's.
   const hal::JointLimits& limits = limits_tree_[at(joint)];
   // Not a step to the goal: the command would lead the joint by the whole move (update() ramps).
   move_joint_ = joint;
@@ -684,6 +742,7 @@ void GazeLoop::update_belief(std::int64_t now_ns) noexcept {
 void GazeLoop::publish(std::int64_t now_ns) noexcept {
   status_.stamp_ns = now_ns;
   status_.saccade_active = mode_ == Mode::kSaccade;
+  status_.trajectory_active = mode_ == Mode::kTrajectory;
   status_.target_set = target_set_;
   if (target_set_) {
     for (int i = 0; i < 3; ++i) status_.target_W_m[at(i)] = target_W_[i];

@@ -81,8 +81,26 @@ class ArmHarness {
     loop_ = std::make_unique<ArmReachLoop>(
         hardware_, params_, pose, std::move(believed), with_gaze ? &gaze_ : nullptr, commands_,
         std::array<hal::TouchSensor*, 2>{&touch_[0], &touch_[1]});
+    loop_->set_trajectories(&trajectories_);
     loop_->configure();
     loop_->activate();
+  }
+
+  /// A trajectory of rig joints through `points` (each: time, then one position per joint, rad),
+  /// positions only.
+  void follow(const std::vector<int>& rig_joints, const std::vector<std::vector<double>>& points) {
+    JointTrajectory trajectory;
+    trajectory.sequence = ++trajectory_sequence_;
+    trajectory.joint_count = static_cast<int>(rig_joints.size());
+    trajectory.point_count = static_cast<int>(points.size());
+    for (std::size_t j = 0; j < rig_joints.size(); ++j)
+      trajectory.joint_rig_index[j] = rig_joints[j];
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      trajectory.time_from_start_s[k] = points[k][0];
+      for (std::size_t j = 0; j < rig_joints.size(); ++j)
+        trajectory.positions_rad[k][j] = points[k][j + 1];
+    }
+    trajectories_.write(trajectory);
   }
 
   void command(ArmAction action, ArmSide side = ArmSide::kNearest,
@@ -167,6 +185,8 @@ class ArmHarness {
   hal::SeqlockChannel<JointStateFrame> states_;
   hal::SeqlockChannel<GazeStatus> gaze_;
   hal::SeqlockChannel<ArmCommand> commands_;
+  hal::SeqlockChannel<JointTrajectory> trajectories_;
+  std::uint64_t trajectory_sequence_ = 0;
   std::array<FakeTouch, 2> touch_;
   std::unique_ptr<ArmReachLoop> loop_;
   std::uint64_t sequence_ = 0;
@@ -373,6 +393,41 @@ TEST(ArmReachLoop, MovesOneJointClampedToItsLimit) {
   arm.move_joint(0, 0.3);  // The neck: not the arms'.
   arm.step();
   EXPECT_EQ(arm.status().refusal(), "move joint: rig joint 0 is not an arm joint");
+}
+
+TEST(ArmReachLoop, AJointTrajectoryMovesTheArmLinearlyThroughItsPointsAndStopsItsReach) {
+  ArmHarness arm;
+  arm.step();
+  // A reach under way is stopped by a trajectory for that arm's joints.
+  arm.command(ArmAction::kReach, ArmSide::kRight, ReachTargetKind::kPoint, kRightTarget);
+  for (int i = 0; i < 10; ++i) arm.step();
+  EXPECT_EQ(arm.status().arms[1].phase, ReachPhase::kReaching);
+  const std::array<double, 4> q0 = arm.q_arm(1);
+  const int shoulder = arm.arm(1).rig[1];
+  const int elbow = arm.arm(1).rig[2];
+  const int gripper = arm.arm(1).rig[4];
+  const double opening0 = arm.opening(1);
+  // Elbow to 1.2 rad by 0.5 s, then 1.0 by 1.5 s; the gripper to 0.1 rad by 1.5 s; linear.
+  arm.follow({elbow, gripper}, {{0.5, 1.2, 0.1 + (opening0 - 0.1) * 2.0 / 3.0}, {1.5, 1.0, 0.1}});
+  for (int i = 1; i <= 301; ++i) {
+    arm.step();
+    const double t = (i - 1) * kPeriodS;
+    const double elbow_rad = t <= 0.5 ? q0[2] + (1.2 - q0[2]) * t / 0.5 : 1.2 - 0.2 * (t - 0.5);
+    EXPECT_NEAR(arm.q_arm(1)[2], elbow_rad, 1e-9) << t;
+    EXPECT_NEAR(arm.opening(1), opening0 + (0.1 - opening0) * t / 1.5, 1e-9) << t;
+    EXPECT_EQ(arm.q_arm(1)[1], q0[1]);  // Not named: held (the reach stopped).
+  }
+  EXPECT_NE(arm.status().arms[1].phase, ReachPhase::kReaching);
+  for (int i = 0; i < 100; ++i) arm.step();  // Held at the last point, the gripper too.
+  EXPECT_NEAR(arm.q_arm(1)[2], 1.0, 1e-9);
+  EXPECT_NEAR(arm.opening(1), 0.1, 1e-9);
+  EXPECT_EQ(arm.loop().trajectory_follower().finished(), 1u);
+  // A head joint in an arm trajectory: refused, naming it; nothing moves.
+  arm.follow({shoulder, 0}, {{1.0, 0.5, 0.3}});
+  arm.step();
+  EXPECT_EQ(arm.status().refusal(), "joint trajectory: rig joint 0 is not an arm joint");
+  EXPECT_EQ(arm.q_arm(1)[1], q0[1]);
+  EXPECT_EQ(arm.heap_use().allocations, 0u);
 }
 
 TEST(ArmReachLoop, UpdateNeverAllocatesReachingOrNot) {

@@ -73,6 +73,7 @@ class GazeHarness {
     loop_ = std::make_unique<GazeLoop>(hardware_, params_, pose_, std::move(believed), summaries_,
                                        requests_, commands_, targets_);
     loop_->set_extra_features(&extra_features_);
+    loop_->set_trajectories(&trajectories_);
     loop_->configure();
     loop_->activate();
   }
@@ -93,6 +94,29 @@ class GazeHarness {
     c.joint_rig_index = static_cast<int>(index(joint));
     c.position_rad = position_deg * kDeg;
     commands_.write(c);
+  }
+  /// A trajectory of `joints` through `points` (each: time, then one position per joint, in
+  /// degrees), positions only or with `velocities_deg_s` (one row per point).
+  void follow(const std::vector<std::string>& joints,
+              const std::vector<std::vector<double>>& points,
+              const std::vector<std::vector<double>>& velocities_deg_s = {}) {
+    JointTrajectory trajectory;
+    trajectory.sequence = ++trajectory_sequence_;
+    trajectory.joint_count = static_cast<int>(joints.size());
+    trajectory.point_count = static_cast<int>(points.size());
+    trajectory.has_velocities = !velocities_deg_s.empty();
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      trajectory.joint_rig_index[j] = static_cast<int>(index(joints[j]));
+    }
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      trajectory.time_from_start_s[k] = points[k][0];
+      for (std::size_t j = 0; j < joints.size(); ++j) {
+        trajectory.positions_rad[k][j] = points[k][j + 1] * kDeg;
+        if (!velocities_deg_s.empty())
+          trajectory.velocities_rad_s[k][j] = velocities_deg_s[k][j] * kDeg;
+      }
+    }
+    trajectories_.write(trajectory);
   }
   void verge(bool on) {
     GazeCommand c;
@@ -271,6 +295,8 @@ class GazeHarness {
   hal::SeqlockChannel<perception::SsmSummary> summaries_;
   hal::SeqlockChannel<perception::SsmRequest> requests_;
   hal::SeqlockChannel<GazeCommand> commands_;
+  hal::SeqlockChannel<JointTrajectory> trajectories_;
+  std::uint64_t trajectory_sequence_ = 0;
   hal::SeqlockChannel<perception::FeatureRequest> extra_features_;
   hal::SeqlockChannel<JointTargetFrame> targets_;
   std::unique_ptr<GazeLoop> loop_;
@@ -681,6 +707,62 @@ TEST(GazeLoop, AMovedHeadJointGoesWithinItsLimitsAndAnArmJointIsRefused) {
   head.step();
   EXPECT_EQ(head.loop().rejected_commands(), rejected + 1);
   EXPECT_EQ(head.q_deg("left_elbow"), elbow);
+}
+
+TEST(GazeLoop, AJointTrajectoryMovesTheHeadAlongItsSplineThenHolds) {
+  GazeHarness head;
+  head.build();
+  for (int i = 0; i < 4; ++i) head.step();
+  const double left_eye_deg = head.q_deg("left_eye_pan");
+  const double right_eye_deg = head.q_deg("right_eye_pan");
+  const double tilt0_deg = head.q_deg("neck_tilt");
+  // The neck pans from rest to 10 deg at rest in 1 s (q = 10 (3 s^2 - 2 s^3) deg), then back to
+  // 4 deg at rest; the neck tilt goes to tilt0 + 5 deg by 1 s and stays; the loop samples it
+  // every cycle, allocation-free.
+  const std::uint64_t applied = head.status().commands_applied;
+  head.follow({"neck_pan", "neck_tilt"},
+              {{1.0, 10.0, tilt0_deg + 5.0}, {2.0, 4.0, tilt0_deg + 5.0}},
+              {{0.0, 0.0}, {0.0, 0.0}});
+  for (int i = 1; i <= 401; ++i) {
+    head.step();
+    const double t = (i - 1) * kPeriodS;  // The trajectory starts on the cycle that takes it.
+    if (t <= 1.0) {
+      EXPECT_NEAR(head.q_deg("neck_pan"), 10.0 * (3 * t * t - 2 * t * t * t), 1e-9) << t;
+    } else if (t <= 2.0) {
+      const double s = t - 1.0;
+      EXPECT_NEAR(head.q_deg("neck_pan"), 10.0 - 6.0 * (3 * s * s - 2 * s * s * s), 1e-9) << t;
+    }
+    EXPECT_LE(std::abs(head.velocity_rad_s("neck_pan")), head.limit_velocity("neck_pan"));
+    // Joints it does not name hold; vergence is not corrected meanwhile.
+    EXPECT_EQ(head.q_deg("left_eye_pan"), left_eye_deg);
+    EXPECT_EQ(head.q_deg("right_eye_pan"), right_eye_deg);
+    if (i == 100) {
+      EXPECT_TRUE(head.status().trajectory_active);
+    }
+  }
+  EXPECT_NEAR(head.q_deg("neck_pan"), 4.0, 1e-9);
+  EXPECT_NEAR(head.q_deg("neck_tilt"), tilt0_deg + 5.0, 1e-9);
+  EXPECT_FALSE(head.status().trajectory_active);
+  EXPECT_EQ(head.status().commands_applied, applied + 1);
+  EXPECT_EQ(head.loop().trajectory_follower().finished(), 1u);
+  // A command takes over from a trajectory under way.
+  head.follow({"neck_pan"}, {{2.0, -10.0}});
+  for (int i = 0; i < 40; ++i) head.step();
+  const double stopped_deg = head.q_deg("neck_pan");
+  EXPECT_LT(stopped_deg, 4.0);
+  head.command(GazeAction::kHold);
+  for (int i = 0; i < 40; ++i) head.step();
+  EXPECT_NEAR(head.q_deg("neck_pan"), stopped_deg, 0.3);
+  EXPECT_FALSE(head.status().trajectory_active);
+  // An arm joint in a head trajectory: refused, nothing moves.
+  const std::uint64_t rejected = head.loop().rejected_commands();
+  const double elbow_deg = head.q_deg("left_elbow");
+  head.follow({"neck_pan", "left_elbow"}, {{1.0, 0.0, 30.0}});
+  for (int i = 0; i < 20; ++i) head.step();
+  EXPECT_EQ(head.loop().rejected_commands(), rejected + 1);
+  EXPECT_EQ(head.status().last_refusal, GazeRefusal::kNotAHeadJoint);
+  EXPECT_EQ(head.q_deg("left_elbow"), elbow_deg);
+  EXPECT_EQ(head.heap_use().allocations, 0u);
 }
 
 TEST(GazeLoop, AHugeFinitePointIsRefusedAndTheLoopStaysFinite) {

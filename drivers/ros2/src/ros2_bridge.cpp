@@ -20,6 +20,7 @@
 #include "sensor_msgs/msg/JointState.h"
 #include "std_msgs/msg/String.h"
 #include "tf2_msgs/msg/TFMessage.h"
+#include "trajectory_msgs/msg/JointTrajectory.h"
 
 namespace cambio::ros2 {
 namespace {
@@ -113,10 +114,11 @@ struct Ros2Bridge::Dds {
   dds_entity_t diagnostics = 0;
   dds_entity_t gaze_fixation = 0;
   dds_entity_t gaze_status = 0;
-  dds_entity_t look_at = 0;   // Reader.
-  dds_entity_t command = 0;   // Reader: console lines.
-  dds_entity_t refusals = 0;  // Writer.
-  dds_entity_t waitset = 0;   // The command thread's: new commands, or stop.
+  dds_entity_t look_at = 0;     // Reader.
+  dds_entity_t command = 0;     // Reader: console lines.
+  dds_entity_t trajectory = 0;  // Reader: joint trajectories (0: not subscribed).
+  dds_entity_t refusals = 0;    // Writer.
+  dds_entity_t waitset = 0;     // The command thread's: new commands, or stop.
   dds_entity_t stop_guard = 0;
   std::vector<char*> names;  // Into the sources' joint names; the message borrows them.
   // One per joint, their frame names borrowed from the sources' tf tree.
@@ -215,6 +217,17 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
                                   command_what),
                           state.qos, nullptr),
         command_what);
+    if (sources_.joint_trajectory) {
+      const std::string trajectory_what = "create the reader of /cambio/joint_trajectory";
+      dds_->trajectory = checked(
+          dds_create_reader(
+              participant,
+              checked(dds_create_topic(participant, &trajectory_msgs_msg_dds__JointTrajectory__desc,
+                                       "rt/cambio/joint_trajectory", state.qos, nullptr),
+                      trajectory_what),
+              state.qos, nullptr),
+          trajectory_what);
+    }
     dds_->waitset = checked(dds_create_waitset(participant), what);
     dds_->stop_guard = checked(dds_create_guardcondition(participant), what);
     const dds_entity_t readable =
@@ -223,7 +236,12 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
         checked(dds_create_readcondition(dds_->command, DDS_ANY_STATE), command_what);
     if (dds_waitset_attach(dds_->waitset, readable, 0) != DDS_RETCODE_OK ||
         dds_waitset_attach(dds_->waitset, command_readable, 0) != DDS_RETCODE_OK ||
-        dds_waitset_attach(dds_->waitset, dds_->stop_guard, 0) != DDS_RETCODE_OK) {
+        dds_waitset_attach(dds_->waitset, dds_->stop_guard, 0) != DDS_RETCODE_OK ||
+        (dds_->trajectory != 0 &&
+         dds_waitset_attach(
+             dds_->waitset,
+             checked(dds_create_readcondition(dds_->trajectory, DDS_ANY_STATE), what),
+             0) != DDS_RETCODE_OK)) {
       throw std::runtime_error("ROS 2 bridge: cannot " + what);
     }
   }
@@ -478,7 +496,69 @@ void Ros2Bridge::serve_commands() {
       }
       dds_return_loan(dds_->command, samples, n);
     }
+    if (dds_->trajectory == 0) continue;
+    while ((n = dds_take(dds_->trajectory, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (infos[i].valid_data) handle_trajectory(samples[i]);
+      }
+      dds_return_loan(dds_->trajectory, samples, n);
+    }
   }
+}
+
+void Ros2Bridge::handle_trajectory(const void* joint_trajectory) {
+  commands_received_.fetch_add(1, std::memory_order_relaxed);
+  const auto& message =
+      *static_cast<const trajectory_msgs_msg_dds__JointTrajectory_*>(joint_trajectory);
+  const std::string topic = "/cambio/joint_trajectory: ";
+  const std::size_t joints = message.joint_names._length;
+  const std::size_t points = message.points._length;
+  // Sizes first: a remote node's million points are refused before anything is copied.
+  if (joints == 0 || joints > sources_.trajectory_max_joints) {
+    refuse(topic + std::to_string(joints) + " joint names; a trajectory names 1 to " +
+           std::to_string(sources_.trajectory_max_joints));
+    return;
+  }
+  if (points == 0 || points > sources_.trajectory_max_points) {
+    refuse(topic + std::to_string(points) + " points; a trajectory has 1 to " +
+           std::to_string(sources_.trajectory_max_points));
+    return;
+  }
+  TrajectoryMessage trajectory;
+  for (std::size_t j = 0; j < joints; ++j) {
+    const char* name = message.joint_names._buffer[j];
+    // A joint's name is short; a megabyte one is cut where no joint's name could reach.
+    constexpr std::size_t kMaxNameBytes = 256;
+    trajectory.joint_names.emplace_back(name != nullptr ? name : "",
+                                        name != nullptr ? strnlen(name, kMaxNameBytes) : 0);
+  }
+  const bool velocities = message.points._buffer[0].velocities._length != 0;
+  for (std::size_t k = 0; k < points; ++k) {
+    const trajectory_msgs_msg_dds__JointTrajectoryPoint_& point = message.points._buffer[k];
+    if (point.positions._length != joints) {
+      refuse(topic + "point " + std::to_string(k) + " has " +
+             std::to_string(point.positions._length) + " positions for " + std::to_string(joints) +
+             " joints");
+      return;
+    }
+    if (point.velocities._length != (velocities ? joints : 0)) {
+      refuse(topic + "point " + std::to_string(k) + " has " +
+             std::to_string(point.velocities._length) +
+             " velocities; give one per joint at every point, or none at all");
+      return;
+    }
+    trajectory.time_from_start_s.push_back(static_cast<double>(point.time_from_start.sec) +
+                                           1e-9 * point.time_from_start.nanosec);
+    trajectory.positions_rad.insert(trajectory.positions_rad.end(), point.positions._buffer,
+                                    point.positions._buffer + joints);
+    if (velocities) {
+      trajectory.velocities_rad_s.insert(trajectory.velocities_rad_s.end(),
+                                         point.velocities._buffer,
+                                         point.velocities._buffer + joints);
+    }
+  }
+  const std::string refusal = sources_.joint_trajectory(trajectory);
+  if (!refusal.empty()) refuse(topic + refusal);
 }
 
 void Ros2Bridge::handle_command(const void* string_message) {

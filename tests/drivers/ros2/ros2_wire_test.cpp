@@ -28,6 +28,7 @@
 #include "sensor_msgs/msg/JointState.h"
 #include "std_msgs/msg/String.h"
 #include "tf2_msgs/msg/TFMessage.h"
+#include "trajectory_msgs/msg/JointTrajectory.h"
 
 // A second process on the DDS domain, as a ROS 2 node would be: it discovers what `cambio run`
 // publishes by DDS's own discovery (the names and QoS ROS 2 matches on) and reads the messages
@@ -176,18 +177,13 @@ class Peer {
                           dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
                                            "rt/cambio/command", nullptr, nullptr),
                           qos, nullptr);
-    {
-      // What a ROS 2 publisher with the default QoS is: reliable keep-last 10, never blocking.
-      dds_qos_t* flood = dds_create_qos();
-      dds_qset_reliability(flood, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
-      dds_qset_history(flood, DDS_HISTORY_KEEP_LAST, 10);
-      flood_writer_ = dds_create_writer(
-          participant_,
-          dds_create_topic(participant_, &geometry_msgs_msg_dds__PointStamped__desc,
-                           "rt/cambio/look_at", nullptr, nullptr),
-          flood, nullptr);
-      dds_delete_qos(flood);
-    }
+    // A million-point trajectory is 32 MB on the wire: the next write may wait for it.
+    trajectory_writer_ =
+        reliable_writer(&trajectory_msgs_msg_dds__JointTrajectory__desc,
+                        "rt/cambio/joint_trajectory", DDS_SECS(30), DDS_HISTORY_KEEP_ALL, 0);
+    // What a ROS 2 publisher with the default QoS is: reliable keep-last 10, never blocking.
+    flood_writer_ = reliable_writer(&geometry_msgs_msg_dds__PointStamped__desc, "rt/cambio/look_at",
+                                    DDS_MSECS(100), DDS_HISTORY_KEEP_LAST, 10);
     refusal_reader_ =
         dds_create_reader(participant_,
                           dds_create_topic(participant_, &std_msgs_msg_dds__String__desc,
@@ -410,6 +406,45 @@ class Peer {
     const std_msgs_msg_dds__String_ message{const_cast<char*>(line.c_str())};
     EXPECT_EQ(dds_write(command_writer_, &message), DDS_RETCODE_OK);
   }
+  /// Sends a joint trajectory on /cambio/joint_trajectory: `points` rows of (time from start,
+  /// one position per joint), velocities (one row per point) or none.
+  void trajectory(std::vector<std::string> joints, const std::vector<std::vector<double>>& points,
+                  std::vector<std::vector<double>> velocities = {}) {
+    std::vector<char*> names;
+    for (std::string& joint : joints) names.push_back(joint.data());
+    std::vector<trajectory_msgs_msg_dds__JointTrajectoryPoint_> rows(points.size());
+    std::vector<std::vector<double>> positions(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      positions[k].assign(points[k].begin() + 1, points[k].end());
+      const double t = points[k][0];
+      rows[k].time_from_start.sec = static_cast<int32_t>(std::floor(t));
+      rows[k].time_from_start.nanosec =
+          static_cast<uint32_t>(std::lround((t - std::floor(t)) * 1e9));
+      rows[k].positions = {static_cast<uint32_t>(positions[k].size()),
+                           static_cast<uint32_t>(positions[k].size()), positions[k].data(), false};
+      if (!velocities.empty()) {
+        rows[k].velocities = {static_cast<uint32_t>(velocities[k].size()),
+                              static_cast<uint32_t>(velocities[k].size()), velocities[k].data(),
+                              false};
+      }
+    }
+    trajectory_msgs_msg_dds__JointTrajectory_ message{};
+    message.header.frame_id = const_cast<char*>("");
+    message.joint_names = {static_cast<uint32_t>(names.size()), static_cast<uint32_t>(names.size()),
+                           names.data(), false};
+    message.points = {static_cast<uint32_t>(rows.size()), static_cast<uint32_t>(rows.size()),
+                      rows.data(), false};
+    EXPECT_EQ(dds_write(trajectory_writer_, &message), DDS_RETCODE_OK);
+  }
+  /// The newest joint state's position of `joint` (NaN before any).
+  double position_rad(const std::string& joint) const {
+    if (joint_states.empty()) return std::nan("");
+    const ReceivedJointState& state = joint_states.back();
+    const auto it = std::find(state.names.begin(), state.names.end(), joint);
+    return it != state.names.end()
+               ? state.position_rad[static_cast<std::size_t>(it - state.names.begin())]
+               : std::nan("");
+  }
   bool refused(const std::string& what) const {
     return std::any_of(refusals.begin(), refusals.end(),
                        [&](const std::string& r) { return r.find(what) != std::string::npos; });
@@ -417,6 +452,18 @@ class Peer {
   std::map<std::string, Publication> publications;
 
  private:
+  dds_entity_t reliable_writer(const dds_topic_descriptor_t* type, const char* topic,
+                               dds_duration_t max_blocking, dds_history_kind_t history,
+                               int32_t depth) {
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, max_blocking);
+    dds_qset_history(qos, history, depth);
+    const dds_entity_t writer = dds_create_writer(
+        participant_, dds_create_topic(participant_, type, topic, nullptr, nullptr), qos, nullptr);
+    dds_delete_qos(qos);
+    return writer;
+  }
+
   dds_entity_t participant_ = 0;
   dds_entity_t joint_reader_ = 0;
   dds_entity_t clock_reader_ = 0;
@@ -426,6 +473,7 @@ class Peer {
   dds_entity_t look_at_writer_ = 0;
   dds_entity_t command_writer_ = 0;
   dds_entity_t flood_writer_ = 0;
+  dds_entity_t trajectory_writer_ = 0;
   dds_entity_t refusal_reader_ = 0;
   dds_entity_t description_reader_ = 0;
   dds_entity_t camera_info_reader_ = 0;
@@ -717,6 +765,66 @@ TEST_F(Ros2Wire, ConsoleLinesFromAPeerMoveTheRobotAndBadOnesAreRefusedWithTheirR
   EXPECT_TRUE(peer.refused("/cambio/command: a line longer than 1000 bytes"));
   EXPECT_FALSE(peer.refused("left_eye_pan")) << "the good line was refused";
   for (const std::string& refusal : peer.refusals) std::printf("refused: %s\n", refusal.c_str());
+}
+
+// Joint trajectories from a ROS 2 node (/cambio/joint_trajectory): one for the head (a spline
+// through positions and velocities) and one for an arm (positions only) are followed to their last
+// points; a NaN, a million points, an unknown joint, head and arm joints together, times that do
+// not increase and a first point too far to reach in its time are each refused with the reason.
+TEST_F(Ros2Wire, JointTrajectoriesFromAPeerMoveTheHeadAndArmAndBadOnesAreRefused) {
+  Peer peer(domain_);
+  const std::filesystem::path experiment = write_commanded_experiment("trajectory");
+  auto run = std::async(std::launch::async, [&] {
+    return testing::run_cambio("run '" + experiment.string() + "' --out '" +
+                               (out_ / "out").string() + "'");
+  });
+  bool sent = false;
+  double elbow0_rad = 0.0;
+  while (run.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+    peer.take();
+    if (peer.joint_states.empty() || sent) continue;
+    if (!peer.refused("no joint \"neck_yaw\"")) {
+      // Until the run has heard one (the first writes may precede the match).
+      peer.trajectory({"neck_yaw"}, {{1.0, 0.1}});
+      continue;
+    }
+    sent = true;
+    elbow0_rad = peer.position_rad("left_elbow");
+    peer.trajectory({"neck_pan"}, {{1.0, std::nan("")}});
+    peer.trajectory({"neck_pan", "left_elbow"}, {{1.0, 0.1, 0.1}});
+    peer.trajectory({"neck_pan"}, {{1.0, 0.1}, {1.0, 0.2}});
+    peer.trajectory({"neck_pan"}, {{0.01, 0.5}});
+    peer.trajectory({"neck_pan"}, {{1.0, 0.1, 0.2}});
+    // Rest to 0.2 rad at rest by 1 s, then to 0.1 rad by 2 s.
+    peer.trajectory({"neck_pan"}, {{1.0, 0.2}, {2.0, 0.1}}, {{0.0}, {0.0}});
+    peer.trajectory({"left_elbow"}, {{1.5, elbow0_rad + 0.2}});
+    peer.trajectory({"neck_pan"}, std::vector<std::vector<double>>(1'000'000, {1.0, 0.1}));
+  }
+  const testing::CommandResult result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  peer.drain();
+  ASSERT_TRUE(sent);
+  for (const std::string& refusal : peer.refusals) std::printf("refused: %s\n", refusal.c_str());
+  EXPECT_TRUE(peer.refused("joint neck_pan, point 0 (1 s): position nan rad is not within"));
+  EXPECT_TRUE(peer.refused("1000000 points; a trajectory has 1 to 128"));
+  EXPECT_TRUE(peer.refused("the head's joints or the arms', not both"));
+  EXPECT_TRUE(peer.refused("point 1 (1 s): not after point 0 (1 s) (times must increase)"));
+  EXPECT_TRUE(peer.refused("joint neck_pan: from where it is to point 0 (0.01 s): 50 rad/s"));
+  EXPECT_TRUE(peer.refused("point 0 has 2 positions for 1 joints"));
+  // The head followed its spline (never beyond its extremes) and holds the last point; the
+  // arm its line.
+  double peak_rad = 0.0;
+  for (const ReceivedJointState& state : peer.joint_states) {
+    const auto it = std::find(state.names.begin(), state.names.end(), "neck_pan");
+    ASSERT_NE(it, state.names.end());
+    peak_rad =
+        std::max(peak_rad, state.position_rad[static_cast<std::size_t>(it - state.names.begin())]);
+  }
+  EXPECT_NEAR(peak_rad, 0.2, 0.01);
+  EXPECT_NEAR(peer.position_rad("neck_pan"), 0.1, 0.005);
+  EXPECT_NEAR(peer.position_rad("left_elbow"), elbow0_rad + 0.2, 0.005);
+  std::printf("trajectory: neck_pan peak %.4f rad, final %.4f rad; left_elbow %.4f -> %.4f rad\n",
+              peak_rad, peer.position_rad("neck_pan"), elbow0_rad, peer.position_rad("left_elbow"));
 }
 
 // A node that floods /cambio/look_at (20,000 targets in a burst, four times): the bridge's reader

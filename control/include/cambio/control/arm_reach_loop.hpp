@@ -14,6 +14,7 @@
 #include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_command.hpp"
 #include "cambio/control/joint_frames.hpp"
+#include "cambio/control/joint_trajectory_follower.hpp"
 #include "cambio/control/kinematics.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/loop.hpp"
@@ -72,7 +73,11 @@ struct ArmReachParams {
 ///    the aim without a touch the phase is kArrived.
 ///  - kGrasp closes, kRelease opens the gripper (kNearest: both arms); kHold stops a reach;
 ///    kMoveJoint moves one arm joint to a position (clamped to its limits) at half its velocity
-///    limit, stopping that arm's reach.
+///    limit, stopping that arm's reach;
+///  - a joint trajectory (from the trajectory channel, set_trajectories()) moves the arm joints it
+///    names along it from where they are commanded, stopping the reaches and moves of the arms it
+///    names; then they hold its last point. kHold, kReach and kMoveJoint end it; a hold of the
+///    drives ends it where the joints are. A joint that is not an arm's refuses it.
 /// It publishes targets for every rig joint (rig order; the arms' joints are its own, the others
 /// stay at the initial pose: the gaze loop overlays the arms' joints onto its own frame) and an
 /// ArmStatus each cycle.
@@ -110,6 +115,12 @@ class ArmReachLoop final : public hal::Loop {
   const std::vector<int>& arm_rig_indices() const { return arm_rig_indices_; }
   /// The arm of a side, or null when the rig has none there.
   const ArmChain* arm(int side) const;
+  /// The channel of joint trajectories for the arms (configure time; null: none).
+  void set_trajectories(const hal::SeqlockChannel<JointTrajectory>* trajectories) {
+    trajectories_ = trajectories;
+  }
+  /// Trajectories started, and those that reached their last point.
+  const JointTrajectoryFollower& trajectory_follower() const { return follower_; }
   /// The arms' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from the
   /// loop's thread or after the executor stopped.
   const CommandTracking& tracking() const { return tracking_; }
@@ -132,6 +143,10 @@ class ArmReachLoop final : public hal::Loop {
   };
 
   void apply(const ArmCommand& command, std::int64_t now_ns) noexcept;
+  /// A new trajectory from the channel: started, or refused naming the joint.
+  void start_trajectory(std::int64_t now_ns) noexcept;
+  /// The arm side (0 left, 1 right) and chain position of a rig joint; false for none.
+  bool find_arm_joint(int rig_index, int& side, std::size_t& k) const noexcept;
   // One cycle of the arms' motion (grippers, moves, reaches) while the joints follow.
   void step_arms(std::int64_t now_ns, double dt_s) noexcept;
   // The arms' status from the believed joints, then both channels written.
@@ -192,6 +207,10 @@ class ArmReachLoop final : public hal::Loop {
   std::vector<double> q_believed_rig_;
   std::vector<double> q_believed_tree_;
   std::uint64_t last_command_sequence_ = 0;
+  const hal::SeqlockChannel<JointTrajectory>* trajectories_ = nullptr;
+  JointTrajectory trajectory_{};  // The newest read from trajectories_.
+  std::uint64_t last_trajectory_sequence_ = 0;
+  JointTrajectoryFollower follower_;
   GazeStatus gaze_status_{};
   ArmStatus status_{};
 };

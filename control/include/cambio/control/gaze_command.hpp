@@ -80,6 +80,8 @@ struct GazeStatus {
   std::uint64_t commands_refused = 0;
   GazeRefusal last_refusal = GazeRefusal::kNone;  ///< Why the newest refused command was.
   bool saccade_active = false;  ///< The dominant eye is on a saccade's trajectory.
+  /// Head joints follow a joint trajectory (JointTrajectory): no servo, no vergence.
+  bool trajectory_active = false;
   /// Frozen this cycle: a joint loop holds or a head joint is not driven (CommandTracking).
   bool joints_held = false;
   /// A head joint stopped following its command: the loop holds to the end of the run.

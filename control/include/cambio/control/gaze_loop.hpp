@@ -15,6 +15,7 @@
 #include "cambio/control/gaze_command.hpp"
 #include "cambio/control/head_joints.hpp"
 #include "cambio/control/joint_frames.hpp"
+#include "cambio/control/joint_trajectory_follower.hpp"
 #include "cambio/control/kinematics.hpp"
 #include "cambio/control/pursuit_tracker.hpp"
 #include "cambio/control/saccade_profile.hpp"
@@ -79,7 +80,11 @@ struct GazeLoopParams {
 /// whose command leads its measurement by more than its max_tracking_error_rad is a fault of
 /// this loop: it reports it (hal::Loop::fault_message), holds where the joints are, refuses
 /// every later motion (GazeRefusal::kTrackingFault) and returns kFault to the end of the run.
-/// A joint move (kMoveJoint) goes at the joint's velocity limit.
+/// A joint move (kMoveJoint) goes at the joint's velocity limit. A joint trajectory (from the
+/// trajectory channel, set_trajectories()) moves the head joints it names along it from where
+/// they are commanded, the others held, no servo and no vergence correction meanwhile; then the
+/// head holds its last point. A later command or trajectory replaces it; a hold of the drives
+/// ends it where the joints are (its timing is gone). Joints that are not the head's refuse it.
 ///
 /// Real-time: everything is allocated at construction; update() never allocates.
 class GazeLoop final : public hal::Loop {
@@ -105,6 +110,13 @@ class GazeLoop final : public hal::Loop {
   void set_extra_features(const hal::SeqlockChannel<perception::FeatureRequest>* extra) {
     extra_features_channel_ = extra;
   }
+
+  /// The channel of joint trajectories for the head (configure time; null: none).
+  void set_trajectories(const hal::SeqlockChannel<JointTrajectory>* trajectories) {
+    trajectories_ = trajectories;
+  }
+  /// Trajectories started, and those that reached their last point.
+  const JointTrajectoryFollower& trajectory_follower() const { return follower_; }
 
   /// Joints another loop commands (the arms, ArmReachLoop): at each publish the gaze loop copies
   /// the commands of `rig_indices` from the newest frame of `overlay` (rig order, every joint)
@@ -156,13 +168,15 @@ class GazeLoop final : public hal::Loop {
   static constexpr double kReanchorAfter_s = 0.5;
 
  private:
-  enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue };
+  enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue, kTrajectory };
   struct CameraPoseSample {
     std::int64_t stamp_ns = 0;
     Eigen::Matrix3d R_WC = Eigen::Matrix3d::Identity();
   };
 
   void apply(const GazeCommand& command, std::int64_t now_ns) noexcept;
+  /// A new trajectory from the channel: started, or refused for a joint that is not the head's.
+  void start_trajectory(std::int64_t now_ns) noexcept;
   /// The head's command set to the measured pose after the joints held; a saccade in progress
   /// is planned again from there.
   void restart_from_measured(std::int64_t now_ns) noexcept;
@@ -187,6 +201,7 @@ class GazeLoop final : public hal::Loop {
   /// Moves a head joint's commanded position (clamped to its limits); false for a joint that is
   /// not the head's or a position that is not finite.
   bool move_joint(int rig_index, double position_rad) noexcept;
+  bool is_head_joint(int tree_index) const noexcept;
   void start_saccade(std::int64_t now_ns) noexcept;
   /// Counts a command not carried out and says why (GazeStatus::last_refusal).
   void refuse(GazeRefusal why) noexcept;
@@ -220,6 +235,10 @@ class GazeLoop final : public hal::Loop {
   const hal::SeqlockChannel<GazeCommand>& commands_;
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<GazeStatus> status_channel_;
+  const hal::SeqlockChannel<JointTrajectory>* trajectories_ = nullptr;
+  JointTrajectory trajectory_{};  // The newest read from trajectories_.
+  std::uint64_t last_trajectory_sequence_ = 0;
+  JointTrajectoryFollower follower_;
   const hal::SeqlockChannel<JointTargetFrame>* overlay_ = nullptr;
   std::vector<int> overlay_rig_indices_;
   JointTargetFrame overlay_frame_{};

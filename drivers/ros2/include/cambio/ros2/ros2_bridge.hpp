@@ -90,6 +90,20 @@ using LookAtHandler = std::function<std::string(const Eigen::Vector3d& p_base_m)
 /// ...): returns "" when it was carried out, else why not. Called on the bridge's command thread.
 using RemoteCommandHandler = std::function<std::string(const std::string& line)>;
 
+/// A trajectory_msgs/JointTrajectory as received, its arrays' sizes checked by the bridge (a
+/// position per joint at every point; a velocity per joint at every point, or none at all).
+/// Accelerations and efforts are not used (the trajectory is interpolated from positions and
+/// velocities), nor is header.stamp (a trajectory starts when the loop takes it).
+struct TrajectoryMessage {
+  std::vector<std::string> joint_names;
+  std::vector<double> time_from_start_s;  ///< Per point.
+  std::vector<double> positions_rad;      ///< Point-major: [point * joints + joint].
+  std::vector<double> velocities_rad_s;   ///< The same layout, or empty: positions only.
+};
+/// Carries out a joint trajectory: returns "" when it was sent to the loop, else why not. Called
+/// on the bridge's command thread.
+using TrajectoryHandler = std::function<std::string(const TrajectoryMessage& trajectory)>;
+
 /// Where the bridge's data comes from.
 struct BridgeSources {
   std::vector<std::string> joint_names;  ///< The joint states' order.
@@ -103,6 +117,12 @@ struct BridgeSources {
   /// Subscribes /cambio/look_at (geometry_msgs/PointStamped, in any frame of the tf tree); each
   /// refusal is published on /cambio/refusals (std_msgs/String) and logged. Null: no commands.
   LookAtHandler look_at;
+  /// Subscribes /cambio/joint_trajectory (trajectory_msgs/JointTrajectory) with the look-at
+  /// target; null: not subscribed. Messages with more points or joints than the loops take
+  /// (trajectory_max_points, trajectory_max_joints) are refused before they are copied.
+  TrajectoryHandler joint_trajectory;
+  std::size_t trajectory_max_points = 0;
+  std::size_t trajectory_max_joints = 0;
   /// Each loop, drive, CAN group and the gaze as /diagnostics; null: none.
   DiagnosticsSampler diagnostics;
   /// The gaze as /cambio/gaze/fixation (geometry_msgs/PointStamped in base) and
@@ -146,6 +166,8 @@ struct BridgeCounts {
 ///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
 ///                                                   is dropped by DDS, never queued)
 ///   /cambio/command   std_msgs/String              reliable keep-last 10: a console line
+///   /cambio/joint_trajectory  trajectory_msgs/JointTrajectory  reliable keep-last 10 (when
+///                                                   given a trajectory handler)
 /// Threads of its own, not real-time, sample the loops' channels at their rates and wait for
 /// commands: a loop never waits for the network. The DDS configuration is Cyclone's own
 /// (CYCLONEDDS_URI).
@@ -186,6 +208,7 @@ class Ros2Bridge {
   void handle_look_at(const void* point_stamped);
   void refuse(const std::string& reason);
   void handle_command(const void* string_message);
+  void handle_trajectory(const void* joint_trajectory);
   /// Writes `message`; counts it in `sent` (if given) or in the write errors.
   bool write(std::int32_t writer, const void* message, std::atomic<std::uint64_t>* sent);
 

@@ -2,6 +2,10 @@
 // stereo pair's intrinsics, distortion and relative pose from chessboard views, written as the
 // rig's camera_calibration file and ROS camera_info files. The work is in
 // calibration/stereo_calibration_run.hpp.
+// `cambio calibrate hand-eye --views DIR --board 9x6 --square-mm 25 --rig RIG --camera CAM
+// --out DIR`: a camera's mount on its link from views of a fixed board at several head poses
+// (calibration/hand_eye_calibration_run.hpp).
+#include <initializer_list>
 #include <iostream>
 #include <span>
 #include <stdexcept>
@@ -12,6 +16,7 @@
 #include "cambio/config/shipped_config.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "hand_eye_calibration_run.hpp"
 #include "output_directory.hpp"
 #include "stereo_calibration_run.hpp"
 #include "stereo_image_pairs.hpp"
@@ -20,11 +25,11 @@ namespace cambio::app {
 
 namespace {
 
-constexpr const char* kSubcommands = "stereo";
+constexpr const char* kSubcommands = "stereo, hand-eye";
 
 /// "9x6": inner corners per row x per column. findChessboardCorners needs at least 3 each way
 /// (a 2-wide grid has no inner quad to grow from); 50 is beyond any printed board.
-ChessboardSpec parse_board(const std::string& text, double square_mm) {
+ChessboardSpec parse_board(const std::string& text, double square_mm, const std::string& command) {
   const std::size_t x = text.find('x');
   int columns = 0;
   int rows = 0;
@@ -39,18 +44,36 @@ ChessboardSpec parse_board(const std::string& text, double square_mm) {
   }
   if (used_columns == 0 || used_columns != x || used_rows != text.size() - x - 1 || columns < 3 ||
       rows < 3 || columns > 50 || rows > 50) {
-    throw UsageError(
-        "calibrate stereo: --board expects the board's inner corners as COLUMNSxROWS, each in "
-        "[3, 50] (a 10 x 7 squares board is 9x6), found '" +
-        text + "'");
+    throw UsageError(command +
+                     ": --board expects the board's inner corners as COLUMNSxROWS, each in "
+                     "[3, 50] (a 10 x 7 squares board is 9x6), found '" +
+                     text + "'");
   }
   return {columns, rows, square_mm / 1000.0};
 }
 
-std::string command_line(std::span<const std::string> args) {
-  std::string line = "cambio calibrate stereo";
+std::string command_line(const std::string& command, std::span<const std::string> args) {
+  std::string line = "cambio " + command;
   for (const auto& arg : args) line += " " + arg;
   return line;
+}
+
+/// The options every calibrate subcommand needs, present, or a UsageError naming the first not.
+void require(const ArgumentParser& parser, std::initializer_list<const char*> options,
+             const std::string& command) {
+  for (const char* required : options) {
+    if (!parser.has(required)) throw UsageError(command + ": --" + required + " is required");
+  }
+}
+
+/// The board from --board and --square-mm, and its description for the files' provenance.
+ChessboardSpec board_option(const ArgumentParser& parser, const std::string& command,
+                            std::string& description) {
+  const double square_mm = parser.number("square-mm", 0.0, config::Range{0.0, 1000.0, true, false},
+                                         "a printed board's square, above 0 and at most a metre");
+  description =
+      parser.value("board") + " inner corners, " + parser.value("square-mm") + " mm squares";
+  return parse_board(parser.value("board"), square_mm, command);
 }
 
 int run_stereo(std::span<const std::string> args) {
@@ -66,18 +89,11 @@ int run_stereo(std::span<const std::string> args) {
       .option("out", "DIR",
               "where camera_calibration.yaml and the ROS camera_info files go (created)");
   if (!parser.parse(args)) return kExitOk;
-  for (const char* required : {"images", "board", "square-mm", "rig", "out"}) {
-    if (!parser.has(required)) {
-      throw UsageError(std::string("calibrate stereo: --") + required + " is required");
-    }
-  }
-  const double square_mm = parser.number("square-mm", 0.0, config::Range{0.0, 1000.0, true, false},
-                                         "a printed board's square, above 0 and at most a metre");
+  require(parser, {"images", "board", "square-mm", "rig", "out"}, "calibrate stereo");
   StereoCalibrationInputs inputs;
-  inputs.board = parse_board(parser.value("board"), square_mm);
+  inputs.board = board_option(parser, "calibrate stereo", inputs.provenance.board);
   inputs.images_dir = parser.value("images");
-  inputs.provenance = {command_line(args), parser.value("board") + " inner corners, " +
-                                               parser.value("square-mm") + " mm squares"};
+  inputs.provenance.command_line = command_line("calibrate stereo", args);
   auto rig = load_rig_or_report(config::resolve_config_argument("rigs", parser.value("rig")), {});
   if (!rig) return kExitBadInput;
   inputs.rig = std::move(*rig);
@@ -92,17 +108,52 @@ int run_stereo(std::span<const std::string> args) {
   }
 }
 
+int run_hand_eye(std::span<const std::string> args) {
+  ArgumentParser parser("calibrate hand-eye",
+                        "--views DIR --board COLSxROWS --square-mm MM --rig RIG --camera CAMERA "
+                        "--out DIR");
+  parser
+      .option("views", "DIR",
+              "the views: viewID.* (an image of the fixed board) with viewID.yaml (joints_rad: "
+              "the joints' readings when it was taken), at several head poses")
+      .option("board", "COLSxROWS", "the chessboard's inner corners, e.g. 9x6")
+      .option("square-mm", "MM", "side of one square, in millimetres")
+      .option("rig", "RIG", "the rig file (or a shipped rig's name): kinematics and intrinsics")
+      .option("camera", "CAMERA", "the camera whose mount on its link is measured")
+      .option("out", "DIR", "where camera_calibration.yaml goes (created)");
+  if (!parser.parse(args)) return kExitOk;
+  require(parser, {"views", "board", "square-mm", "rig", "camera", "out"}, "calibrate hand-eye");
+  HandEyeCalibrationInputs inputs;
+  inputs.board = board_option(parser, "calibrate hand-eye", inputs.provenance.board);
+  inputs.views_dir = parser.value("views");
+  inputs.camera = parser.value("camera");
+  inputs.provenance.command_line = command_line("calibrate hand-eye", args);
+  auto rig = load_rig_or_report(config::resolve_config_argument("rigs", parser.value("rig")), {});
+  if (!rig) return kExitBadInput;
+  inputs.rig = std::move(*rig);
+  OutputDirectory out(parser.value("out"), "calibrate hand-eye");
+  try {
+    const HandEyeCalibrationOutcome outcome = run_hand_eye_calibration(inputs, out, std::cout);
+    return outcome == HandEyeCalibrationOutcome::kCalibrated ? kExitOk : kExitFailure;
+  } catch (const CalibrationInputError& error) {
+    std::cerr << "cambio calibrate hand-eye: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+}
+
 }  // namespace
 
 int run_calibrate_command(std::span<const std::string> args) {
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::cout << "usage: cambio calibrate stereo --images DIR --board COLSxROWS --square-mm MM "
-                 "--rig RIG --out DIR\n"
-                 "  stereo  a stereo pair's intrinsics, distortion and relative pose from "
-                 "chessboard views (cambio calibrate stereo --help)\n";
+    std::cout << "usage: cambio calibrate stereo|hand-eye OPTIONS\n"
+                 "  stereo    a stereo pair's intrinsics, distortion and relative pose from "
+                 "chessboard views (cambio calibrate stereo --help)\n"
+                 "  hand-eye  a camera's mount on its link from views of a fixed board at "
+                 "several head poses (cambio calibrate hand-eye --help)\n";
     return kExitOk;
   }
-  if (args.empty() || args[0] != kSubcommands) {
+  if (!args.empty() && args[0] == "hand-eye") return run_hand_eye(args.subspan(1));
+  if (args.empty() || args[0] != "stereo") {
     throw UsageError("calibrate: " +
                      (args.empty() ? std::string("expected a subcommand")
                                    : "unknown subcommand '" + args[0] + "'") +

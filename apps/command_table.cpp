@@ -41,7 +41,9 @@ std::span<const Command> all_commands() {
               &run_virtual_rig_command},
       Command{"eds", "check a vendor drive's EDS against a rig's CAN joint group (eds check)",
               &run_eds_command},
-      Command{"calibrate", "a stereo pair's intrinsics, distortion and pose from chessboard views",
+      Command{"calibrate",
+              "from chessboard views: a stereo pair's intrinsics, distortion and pose; a "
+              "camera's mount on its link",
               &run_calibrate_command},
       Command{"export", "the rig as a URDF for ROS tools (export urdf)", &run_export_command},
       Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",

@@ -45,6 +45,15 @@ void emit_matrix(YAML::Emitter& out, const char* key, int rows, int cols,
   out << YAML::EndMap;
 }
 
+void emit_mount(YAML::Emitter& out, const config::Pose& mount) {
+  out << YAML::Key << "origin_xyz_m" << YAML::Value;
+  emit_list(out, mount.xyz_m);
+  const std::array<double, 3> rpy_deg = {
+      mount.rpy_rad[0] * kDegPerRad, mount.rpy_rad[1] * kDegPerRad, mount.rpy_rad[2] * kDegPerRad};
+  out << YAML::Key << "origin_rpy_deg" << YAML::Value;
+  emit_list(out, rpy_deg);
+}
+
 std::string fixed(double value, int decimals) {
   std::ostringstream text;
   text.setf(std::ios::fixed);
@@ -81,14 +90,38 @@ std::string rig_camera_calibration_yaml(const config::RigConfig& rig,
   out << YAML::EndMap;
   out << YAML::Key << rig.stereo->right_camera << YAML::Value << YAML::BeginMap;
   emit_intrinsics(out, calibration.right);
-  out << YAML::Key << "origin_xyz_m" << YAML::Value;
-  emit_list(out, right_mount.xyz_m);
-  const std::array<double, 3> rpy_deg = {right_mount.rpy_rad[0] * kDegPerRad,
-                                         right_mount.rpy_rad[1] * kDegPerRad,
-                                         right_mount.rpy_rad[2] * kDegPerRad};
-  out << YAML::Key << "origin_rpy_deg" << YAML::Value;
-  emit_list(out, rpy_deg);
+  emit_mount(out, right_mount);
   out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
+  return header.str() + out.c_str() + "\n";
+}
+
+std::string rig_camera_mount_yaml(const config::RigConfig& rig, const std::string& camera,
+                                  const config::Pose& mount, const std::string& summary,
+                                  const CalibrationProvenance& provenance) {
+  std::ostringstream header;
+  header << "# Camera calibration of rig " << rig.name << ", written by\n#   "
+         << provenance.command_line << "\n# " << summary << "\n"
+         << "# " << camera << "'s mount measured by hand-eye calibration (" << provenance.board
+         << "); the other\n# values as the rig had them. Include it from the rig with "
+         << "`camera_calibration: FILE`.\n";
+  YAML::Emitter out;
+  out.SetDoublePrecision(kSignificantDigits);
+  out << YAML::BeginMap << YAML::Key << "cameras" << YAML::Value << YAML::BeginMap;
+  for (const config::CameraConfig& entry : rig.cameras) {
+    CameraCalibration intrinsics;
+    intrinsics.width_px = entry.width_px;
+    intrinsics.height_px = entry.height_px;
+    intrinsics.focal_x_px = entry.focal_x_px;
+    intrinsics.focal_y_px = entry.focal_y_px;
+    intrinsics.principal_x_px = entry.principal_x_px;
+    intrinsics.principal_y_px = entry.principal_y_px;
+    intrinsics.distortion = entry.distortion;
+    out << YAML::Key << entry.name << YAML::Value << YAML::BeginMap;
+    emit_intrinsics(out, intrinsics);
+    emit_mount(out, entry.name == camera ? mount : entry.mount);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap << YAML::EndMap;
   return header.str() + out.c_str() + "\n";
 }
 

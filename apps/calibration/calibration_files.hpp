@@ -7,6 +7,9 @@
 
 namespace cambio::app {
 
+/// The rig's camera calibration file, as the calibrate commands name it in their output folder.
+inline constexpr const char* kRigCalibrationFileName = "camera_calibration.yaml";
+
 /// Where a calibration came from, for the files' header comments.
 struct CalibrationProvenance {
   std::string command_line;  ///< As the user could run it again.
@@ -21,6 +24,14 @@ std::string rig_camera_calibration_yaml(const config::RigConfig& rig,
                                         const StereoCalibration& calibration,
                                         const config::Pose& right_mount,
                                         const CalibrationProvenance& provenance);
+
+/// The rig's camera calibration file after a hand-eye calibration of `camera`: every camera of
+/// the rig with its intrinsics, distortion and mount as loaded (the rig's own or its current
+/// calibration file's), `camera`'s mount replaced by `mount`; the header comment holds the
+/// provenance and `summary` (views, agreement).
+std::string rig_camera_mount_yaml(const config::RigConfig& rig, const std::string& camera,
+                                  const config::Pose& mount, const std::string& summary,
+                                  const CalibrationProvenance& provenance);
 
 /// One camera as a ROS camera_info YAML file (camera_calibration_parsers' format, as
 /// camera_info_manager reads it): size, camera_name, camera_matrix, distortion_model plumb_bob

@@ -7,6 +7,9 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "image_files.hpp"
+#include "stereo_image_pairs.hpp"
+
 namespace cambio::app {
 
 namespace {
@@ -61,6 +64,26 @@ std::optional<std::vector<cv::Point2f>> find_board_corners_px(const cv::Mat& gre
   cv::cornerSubPix(grey, corners, cv::Size(half_window_px, half_window_px), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-4));
   return corners;
+}
+
+cv::Mat read_calibration_image(const std::filesystem::path& path,
+                               const config::CameraConfig& camera, const std::string& option) {
+  hal::Image image;
+  try {
+    image = read_image_file(path.string(), hal::PixelFormat::kGrey8);
+  } catch (const ImageFileError& error) {
+    throw CalibrationInputError(option + ": " + error.what());
+  }
+  const cv::Mat grey =
+      cv::Mat(image.height_px, image.width_px, CV_8UC1, image.pixels.data()).clone();
+  if (grey.cols != camera.width_px || grey.rows != camera.height_px) {
+    throw CalibrationInputError(option + ": '" + path.string() + "' is " +
+                                std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
+                                " px, expected the rig's " + std::to_string(camera.width_px) + "x" +
+                                std::to_string(camera.height_px) + " of camera '" + camera.name +
+                                "' (a calibration holds for one resolution)");
+  }
+  return grey;
 }
 
 }  // namespace cambio::app

@@ -1,9 +1,12 @@
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
+
+#include "cambio/config/rig_config.hpp"
 
 namespace cambio::app {
 
@@ -25,5 +28,11 @@ std::vector<cv::Point3f> board_corners_m(const ChessboardSpec& board);
 /// pixels (origin at the top-left pixel's centre); nullopt when the whole board is not found.
 std::optional<std::vector<cv::Point2f>> find_board_corners_px(const cv::Mat& grey,
                                                               const ChessboardSpec& board);
+
+/// A calibration image as grey levels (8-bit, one channel). Throws CalibrationInputError, its
+/// message starting with `option` (the command's option that named the folder), for an image
+/// that cannot be read or is not `camera`'s size.
+cv::Mat read_calibration_image(const std::filesystem::path& path,
+                               const config::CameraConfig& camera, const std::string& option);
 
 }  // namespace cambio::app

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "image_files.hpp"
 #include "right_camera_mount.hpp"
 #include "stereo_calibration.hpp"
 #include "stereo_image_pairs.hpp"
@@ -28,34 +27,16 @@ struct FoundViews {
   std::vector<RefusedView> refused;
 };
 
-/// The image as grey levels; refuses one that cannot be read or is not the camera's size.
-cv::Mat read_grey(const std::filesystem::path& path, const config::CameraConfig& camera) {
-  hal::Image image;
-  try {
-    image = read_image_file(path.string(), hal::PixelFormat::kGrey8);
-  } catch (const ImageFileError& error) {
-    throw CalibrationInputError(std::string("--images: ") + error.what());
-  }
-  const cv::Mat grey =
-      cv::Mat(image.height_px, image.width_px, CV_8UC1, image.pixels.data()).clone();
-  if (grey.cols != camera.width_px || grey.rows != camera.height_px) {
-    throw CalibrationInputError("--images: '" + path.string() + "' is " +
-                                std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
-                                " px, expected the rig's " + std::to_string(camera.width_px) + "x" +
-                                std::to_string(camera.height_px) + " of camera '" + camera.name +
-                                "' (a calibration holds for one resolution)");
-  }
-  return grey;
-}
-
 FoundViews find_boards(const std::vector<StereoImagePair>& pairs, const ChessboardSpec& board,
                        const config::CameraConfig& left, const config::CameraConfig& right) {
   FoundViews found;
   const std::string pattern =
       std::to_string(board.inner_columns) + "x" + std::to_string(board.inner_rows);
   for (const auto& pair : pairs) {
-    const auto left_px = find_board_corners_px(read_grey(pair.left, left), board);
-    const auto right_px = find_board_corners_px(read_grey(pair.right, right), board);
+    const auto left_px =
+        find_board_corners_px(read_calibration_image(pair.left, left, "--images"), board);
+    const auto right_px =
+        find_board_corners_px(read_calibration_image(pair.right, right, "--images"), board);
     std::string missing;
     if (!left_px) missing = pair.left.filename().string();
     if (!right_px) missing += (missing.empty() ? "" : " and ") + pair.right.filename().string();

@@ -18,9 +18,8 @@ namespace cambio::app {
 /// reaches a low RMS on a wrong answer (distortion absorbing the pose), so it is refused.
 inline constexpr std::size_t kMinStereoViews = 6;
 
-/// The file names written into the output directory: the rig's include, then one ROS
-/// camera_info file per camera, named `<camera>.yaml` as camera_info_manager expects.
-inline constexpr const char* kRigCalibrationFileName = "camera_calibration.yaml";
+/// Besides kRigCalibrationFileName, one ROS camera_info file per camera is written, named
+/// `<camera>.yaml` as camera_info_manager expects.
 
 struct StereoCalibrationInputs {
   std::filesystem::path images_dir;

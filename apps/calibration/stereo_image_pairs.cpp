@@ -9,15 +9,15 @@
 
 namespace cambio::app {
 
-namespace {
-
-bool is_image_extension(std::string extension) {
+bool is_calibration_image_extension(std::string extension) {
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   constexpr std::array<std::string_view, 8> kExtensions = {".png", ".jpg", ".jpeg", ".pgm",
                                                            ".ppm", ".bmp", ".tif",  ".tiff"};
   return std::find(kExtensions.begin(), kExtensions.end(), extension) != kExtensions.end();
 }
+
+namespace {
 
 struct SideFiles {
   std::map<std::string, std::vector<std::filesystem::path>> by_id;
@@ -46,7 +46,7 @@ std::vector<StereoImagePair> find_stereo_image_pairs(const std::filesystem::path
   for (const auto& entry : it) {
     if (!entry.is_regular_file(error)) continue;
     const std::filesystem::path& path = entry.path();
-    if (!is_image_extension(path.extension().string())) continue;
+    if (!is_calibration_image_extension(path.extension().string())) continue;
     const std::string stem = path.stem().string();
     for (auto& [prefix, side] :
          {std::pair<std::string_view, SideFiles*>{"left", &left}, {"right", &right}}) {

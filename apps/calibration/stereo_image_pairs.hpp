@@ -14,6 +14,9 @@ class CalibrationInputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Whether `extension` (with its dot, any case) is one of kCalibrationImageExtensions.
+bool is_calibration_image_extension(std::string extension);
+
 /// One stereo view: `left<ID>.<ext>` with `right<ID>.<ext>` (OpenCV's samples' naming:
 /// left01.jpg with right01.jpg). The two may differ in extension.
 struct StereoImagePair {

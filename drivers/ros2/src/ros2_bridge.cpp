@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <stdexcept>
 #include <utility>
 
 #include "geometry_msgs/msg/PointStamped.h"
+#include "rmw_dds_common/msg/ParticipantEntitiesInfo.h"
 
 #include "cambio/ros2/ros_time.hpp"
 #include "diagnostic_msgs/msg/DiagnosticArray.h"
@@ -118,6 +120,7 @@ struct Ros2Bridge::Dds {
   dds_entity_t command = 0;     // Reader: console lines.
   dds_entity_t trajectory = 0;  // Reader: joint trajectories (0: not subscribed).
   dds_entity_t refusals = 0;    // Writer.
+  dds_entity_t discovery = 0;   // Writer: ros_discovery_info.
   dds_entity_t waitset = 0;     // The command thread's: new commands, or stop.
   dds_entity_t stop_guard = 0;
   std::vector<char*> names;  // Into the sources' joint names; the message borrows them.
@@ -245,6 +248,21 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
       throw std::runtime_error("ROS 2 bridge: cannot " + what);
     }
   }
+  {
+    // rmw_cyclonedds' graph topic: its name has no "rt/" and its QoS keeps the newest for late
+    // joiners (rmw_context_impl_s::init).
+    const Qos graph(DDS_RELIABILITY_RELIABLE, 1, DDS_DURABILITY_TRANSIENT_LOCAL);
+    const std::string what = "create the writer of ros_discovery_info";
+    dds_->discovery =
+        checked(dds_create_writer(
+                    participant,
+                    checked(dds_create_topic(participant,
+                                             &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc,
+                                             "ros_discovery_info", graph.qos, nullptr),
+                            what),
+                    graph.qos, nullptr),
+                what);
+  }
   for (std::string& name : sources_.joint_names) dds_->names.push_back(name.data());
   for (TfJoint& joint : sources_.tf_tree.joints) {
     geometry_msgs_msg_dds__TransformStamped_ transform{};
@@ -261,6 +279,7 @@ Ros2Bridge::~Ros2Bridge() {
 void Ros2Bridge::start() {
   if (started_) return;
   started_ = true;
+  publish_discovery_info();
   if (dds_->tf_static != 0) publish_tf_static();
   if (dds_->robot_description != 0) {
     const std_msgs_msg_dds__String_ urdf{sources_.robot_description.data()};
@@ -470,6 +489,42 @@ void Ros2Bridge::publish_gaze() {
   std::vector<diagnostic_msgs_msg_dds__KeyValue_> values;
   const diagnostic_msgs_msg_dds__DiagnosticStatus_ status = status_of(sample.status, values);
   write(dds_->gaze_status, &status, &gaze_sent_);
+}
+
+void Ros2Bridge::publish_discovery_info() {
+  // A GID is the entity's DDS GUID, zero-padded (rmw_cyclonedds' convert_guid_to_gid): what a
+  // peer's graph cache sees of the same entities through DDS's own discovery.
+  const auto gid_of = [](dds_entity_t entity) {
+    rmw_dds_common_msg_dds__Gid_ gid{};
+    dds_guid_t guid{};
+    if (entity > 0 && dds_get_guid(entity, &guid) == DDS_RETCODE_OK) {
+      static_assert(sizeof(guid.v) <= sizeof(gid.data));
+      std::memcpy(gid.data, guid.v, sizeof(guid.v));
+    }
+    return gid;
+  };
+  std::vector<rmw_dds_common_msg_dds__Gid_> writers;
+  std::vector<rmw_dds_common_msg_dds__Gid_> readers;
+  for (const dds_entity_t writer :
+       {dds_->joint_states, dds_->clock, dds_->tf, dds_->tf_static, dds_->images[0],
+        dds_->images[1], dds_->camera_infos[0], dds_->camera_infos[1], dds_->robot_description,
+        dds_->diagnostics, dds_->gaze_fixation, dds_->gaze_status, dds_->refusals}) {
+    if (writer > 0) writers.push_back(gid_of(writer));
+  }
+  for (const dds_entity_t reader : {dds_->look_at, dds_->command, dds_->trajectory}) {
+    if (reader > 0) readers.push_back(gid_of(reader));
+  }
+  rmw_dds_common_msg_dds__NodeEntitiesInfo_ node{};
+  std::snprintf(node.node_namespace, sizeof(node.node_namespace), "/");
+  std::snprintf(node.node_name, sizeof(node.node_name), "%s", settings_.node_name.c_str());
+  node.reader_gid_seq = {static_cast<std::uint32_t>(readers.size()),
+                         static_cast<std::uint32_t>(readers.size()), readers.data(), false};
+  node.writer_gid_seq = {static_cast<std::uint32_t>(writers.size()),
+                         static_cast<std::uint32_t>(writers.size()), writers.data(), false};
+  rmw_dds_common_msg_dds__ParticipantEntitiesInfo_ info{};
+  info.gid = gid_of(dds_->participant);
+  info.node_entities_info_seq = {1, 1, &node, false};
+  write(dds_->discovery, &info, nullptr);
 }
 
 void Ros2Bridge::serve_commands() {

@@ -3,7 +3,7 @@
 rmw_cyclonedds gives the type on the wire, so Cyclone's idlc generates a type every ROS 2 node
 reads: `pkg::msg::Name` becomes `pkg::msg::dds_::Name_` (rmw_cyclonedds' type_name.cpp), and the
 annotations idlc does not know (@verbatim comments, @default values) are dropped; they change
-nothing on the wire.
+nothing on the wire. Each file gets an include guard.
 
 usage: ros_idl_to_dds_idl.py IN.idl OUT.idl
 """
@@ -36,6 +36,10 @@ def main() -> int:
     except (OSError, ValueError) as error:
         print(f'{source}: {error}', file=sys.stderr)
         return 2
+    # A guard, as C headers have: a type reached by two includes (Gid through NodeEntitiesInfo and
+    # directly) is declared once, and idlc refuses a typedef declared twice.
+    guard = '_'.join(target.with_suffix('').parts[-3:]).upper() + '_IDL_'
+    text = f'#ifndef {guard}\n#define {guard}\n{text}#endif\n'
     target.parent.mkdir(parents=True, exist_ok=True)
     target.write_text(text)
     return 0

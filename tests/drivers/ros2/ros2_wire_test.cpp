@@ -22,6 +22,7 @@
 #include "../../apps/run_cambio.hpp"
 #include "diagnostic_msgs/msg/DiagnosticArray.h"
 #include "geometry_msgs/msg/PointStamped.h"
+#include "rmw_dds_common/msg/ParticipantEntitiesInfo.h"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
 #include "sensor_msgs/msg/Image.h"
@@ -40,8 +41,12 @@ namespace {
 
 constexpr double kDegPerRad = 180.0 / M_PI;
 
+using Guid = std::array<std::uint8_t, 16>;
+
 struct Publication {
   std::string type_name;
+  Guid key{};              ///< The writer's GUID, from DDS discovery.
+  Guid participant_key{};  ///< Its participant's.
   dds_reliability_kind_t reliability = DDS_RELIABILITY_BEST_EFFORT;
   dds_history_kind_t history = DDS_HISTORY_KEEP_ALL;
   int32_t depth = 0;
@@ -219,10 +224,24 @@ class Peer {
                           qos, nullptr);
     publications_ =
         dds_create_reader(participant_, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
+    {
+      // As a ROS 2 node's graph cache reads it (rmw_cyclonedds: reliable, transient-local, 1).
+      dds_qos_t* graph = dds_create_qos();
+      dds_qset_reliability(graph, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+      dds_qset_history(graph, DDS_HISTORY_KEEP_LAST, 1);
+      dds_qset_durability(graph, DDS_DURABILITY_TRANSIENT_LOCAL);
+      discovery_reader_ = dds_create_reader(
+          participant_,
+          dds_create_topic(participant_, &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc,
+                           "ros_discovery_info", nullptr, nullptr),
+          graph, nullptr);
+      dds_delete_qos(graph);
+    }
     dds_delete_qos(qos);
     EXPECT_GT(joint_reader_, 0);
     EXPECT_GT(clock_reader_, 0);
     EXPECT_GT(publications_, 0);
+    EXPECT_GT(discovery_reader_, 0) << dds_strretcode(discovery_reader_);
   }
   ~Peer() { dds_delete(participant_); }
   Peer(const Peer&) = delete;
@@ -349,12 +368,37 @@ class Peer {
       }
       dds_return_loan(fixation_reader_, samples, n);
     }
+    while ((n = dds_take(discovery_reader_, samples, infos, kBatch, kBatch)) > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* m =
+            static_cast<const rmw_dds_common_msg_dds__ParticipantEntitiesInfo_*>(samples[i]);
+        const auto guid = [](const rmw_dds_common_msg_dds__Gid_& gid) {
+          Guid g{};
+          std::copy(gid.data, gid.data + g.size(), g.begin());
+          return g;
+        };
+        for (uint32_t k = 0; k < m->node_entities_info_seq._length; ++k) {
+          const auto& node = m->node_entities_info_seq._buffer[k];
+          GraphNode entry{guid(m->gid), node.node_namespace, node.node_name, {}, {}};
+          for (uint32_t w = 0; w < node.writer_gid_seq._length; ++w)
+            entry.writers.push_back(guid(node.writer_gid_seq._buffer[w]));
+          for (uint32_t r = 0; r < node.reader_gid_seq._length; ++r)
+            entry.readers.push_back(guid(node.reader_gid_seq._buffer[r]));
+          graph_nodes.push_back(entry);
+        }
+      }
+      dds_return_loan(discovery_reader_, samples, n);
+    }
     while ((n = dds_take(publications_, samples, infos, kBatch, kBatch)) > 0) {
       for (int i = 0; i < n; ++i) {
         if (!infos[i].valid_data) continue;
         const auto* e = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
         Publication p;
         p.type_name = e->type_name;
+        std::copy(std::begin(e->key.v), std::end(e->key.v), p.key.begin());
+        std::copy(std::begin(e->participant_key.v), std::end(e->participant_key.v),
+                  p.participant_key.begin());
         dds_duration_t blocking = 0;
         dds_qget_reliability(e->qos, &p.reliability, &blocking);
         dds_qget_history(e->qos, &p.history, &p.depth);
@@ -365,6 +409,15 @@ class Peer {
     }
   }
 
+  /// A node on ros_discovery_info: its participant's GID, name, and endpoints' GIDs.
+  struct GraphNode {
+    Guid participant;
+    std::string node_namespace;
+    std::string name;
+    std::vector<Guid> writers;
+    std::vector<Guid> readers;
+  };
+  std::vector<GraphNode> graph_nodes;
   std::vector<ReceivedJointState> joint_states;
   std::vector<double> clock_s;
   std::vector<ReceivedTf> tf;
@@ -481,6 +534,7 @@ class Peer {
   dds_entity_t gaze_status_reader_ = 0;
   dds_entity_t fixation_reader_ = 0;
   dds_entity_t publications_ = 0;
+  dds_entity_t discovery_reader_ = 0;
 };
 
 class Ros2Wire : public ::testing::Test {
@@ -547,6 +601,18 @@ TEST_F(Ros2Wire, APeerSeesTheVergenceRunsJointsAndTreeUnderRos2sNamesTypesAndQos
   EXPECT_EQ(joints.depth, 10);
   ASSERT_TRUE(peer.publications.contains("rt/clock"));
   EXPECT_EQ(peer.publications.at("rt/clock").type_name, "rosgraph_msgs::msg::dds_::Clock_");
+  // ROS 2's graph (what `ros2 node list` reads): the node /cambio, on the participant that DDS
+  // discovery says writes /joint_states, listing that writer's GUID among its writers.
+  ASSERT_FALSE(peer.graph_nodes.empty());
+  const Peer::GraphNode& node = peer.graph_nodes.back();
+  EXPECT_EQ(node.node_namespace, "/");
+  EXPECT_EQ(node.name, "cambio");
+  EXPECT_EQ(node.participant, joints.participant_key);
+  EXPECT_NE(std::find(node.writers.begin(), node.writers.end(), joints.key), node.writers.end());
+  EXPECT_NE(
+      std::find(node.writers.begin(), node.writers.end(), peer.publications.at("rt/clock").key),
+      node.writers.end());
+  EXPECT_TRUE(node.readers.empty());  // This run takes no commands.
 
   // A 2 s run at 100 Hz of wall time publishes far more than this whatever the machine's load.
   ASSERT_GE(peer.joint_states.size(), 10u);

@@ -37,6 +37,9 @@ struct BridgeSettings {
   double diagnostics_rate_hz = 0.0;
   /// /cambio/gaze/fixation and /cambio/gaze/status per second of wall time; 0: none.
   double gaze_rate_hz = 0.0;
+  /// The node's name in ROS 2's graph (`ros2 node list` shows /NAME): published on
+  /// ros_discovery_info as rmw_cyclonedds does, with the participant's and endpoints' GIDs.
+  std::string node_name = "cambio";
   /// Added to the run's clock to make ROS time: 0 for simulated time, CLOCK_REALTIME minus
   /// CLOCK_MONOTONIC for a run on the wall clock.
   std::int64_t epoch_offset_ns = 0;
@@ -162,6 +165,10 @@ struct BridgeCounts {
 ///   /diagnostics      diagnostic_msgs/DiagnosticArray   reliable keep-last 10 (when asked)
 ///   /cambio/gaze/fixation  geometry_msgs/PointStamped   reliable keep-last 10 (when asked)
 ///   /cambio/gaze/status    diagnostic_msgs/DiagnosticStatus  reliable keep-last 10
+///   ros_discovery_info     rmw_dds_common/ParticipantEntitiesInfo (no "rt/": ROS 2's own
+///                          graph topic) reliable transient-local keep-last 1: this node,
+///                          its readers and writers, so ROS 2 tools list it (Iron and later:
+///                          the 16-byte GID)
 /// and subscribes, when given a look-at handler:
 ///   /cambio/look_at   geometry_msgs/PointStamped   reliable keep-last 10 (a flood beyond that
 ///                                                   is dropped by DDS, never queued)
@@ -200,6 +207,8 @@ class Ros2Bridge {
   void publish_joint_states();
   void publish_tf(std::int64_t stamp_ns);
   void publish_tf_static();
+  /// The node and its endpoints on ros_discovery_info (once, at start: they never change).
+  void publish_discovery_info();
   void publish_images();
   void publish_diagnostics();
   void publish_gaze();

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <iostream>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "geometry_msgs/msg/PointStamped.h"
@@ -646,7 +647,14 @@ void Ros2Bridge::handle_look_at(const void* point_stamped) {
         "(e.g. base)");
     return;
   }
-  if (!sources_.joint_states(command_sample_)) {
+  // A sample can fail while a loop is writing its channel (the reader never waits on a writer);
+  // this thread is not a loop's, so it tries again for a few milliseconds before saying no.
+  bool sampled = false;
+  for (int attempt = 0; attempt < 20 && !(sampled = sources_.joint_states(command_sample_));
+       ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (!sampled) {
     refuse("/cambio/look_at: no joint state yet to place frame '" + frame + "'");
     return;
   }

@@ -5,6 +5,10 @@
 // `cambio calibrate hand-eye --views DIR --board 9x6 --square-mm 25 --rig RIG --camera CAM
 // --out DIR`: a camera's mount on its link from views of a fixed board at several head poses
 // (calibration/hand_eye_calibration_run.hpp).
+// `cambio calibrate capture EXPERIMENT.yaml --poses FILE --camera CAM --out DIR`: moves the head
+// through the poses and saves each view with the joints' readings (hand-eye's input), by the
+// console's lines (calibration/capture_script.hpp).
+#include <filesystem>
 #include <initializer_list>
 #include <iostream>
 #include <span>
@@ -14,8 +18,10 @@
 
 #include "argument_parser.hpp"
 #include "cambio/config/shipped_config.hpp"
+#include "capture_script.hpp"
 #include "command.hpp"
 #include "config_errors.hpp"
+#include "console_run.hpp"
 #include "hand_eye_calibration_run.hpp"
 #include "output_directory.hpp"
 #include "stereo_calibration_run.hpp"
@@ -25,7 +31,7 @@ namespace cambio::app {
 
 namespace {
 
-constexpr const char* kSubcommands = "stereo, hand-eye";
+constexpr const char* kSubcommands = "stereo, hand-eye, capture";
 
 /// "9x6": inner corners per row x per column. findChessboardCorners needs at least 3 each way
 /// (a 2-wide grid has no inner quad to grow from); 50 is beyond any printed board.
@@ -141,18 +147,62 @@ int run_hand_eye(std::span<const std::string> args) {
   }
 }
 
+int run_capture(std::span<const std::string> args) {
+  ArgumentParser parser("calibrate capture",
+                        "EXPERIMENT.yaml --poses FILE --camera CAMERA --out DIR [--settle-s S]");
+  parser.positional("EXPERIMENT.yaml", "the experiment whose rig (and scene, in sim) to drive")
+      .option("poses", "FILE", "the head poses: poses: [{neck_pan: 10, neck_tilt: -5, ...}] (deg)")
+      .option("camera", "CAMERA", "the stereo camera whose views are saved")
+      .option("out", "DIR", "where viewNN.png and viewNN.yaml go (a new or empty folder)")
+      .option("settle-s", "S", "time at each pose before its view is taken (default 0.5 s)");
+  if (!parser.parse(args)) return kExitOk;
+  require(parser, {"poses", "camera", "out"}, "calibrate capture");
+  const double settle_s = parser.number("settle-s", 0.5, config::Range{0.0, 60.0, true, true},
+                                        "seconds at a pose before its view, at most a minute");
+  config::ExperimentConfig experiment;
+  try {
+    experiment = config::load_experiment(*parser.positional_value("EXPERIMENT.yaml"), {});
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return kExitBadInput;
+  }
+  const std::filesystem::path out(parser.value("out"));
+  std::error_code error;
+  if (std::filesystem::exists(out, error) && !std::filesystem::is_empty(out, error)) {
+    std::cerr << "cambio calibrate capture: --out: '" << out.string()
+              << "' is not empty; name a new folder (views of one session only)\n";
+    return kExitBadInput;
+  }
+  try {
+    const std::vector<CapturePose> poses =
+        read_capture_poses(parser.value("poses"), experiment.rig);
+    CapturePose start;
+    for (const config::JointConfig& joint : experiment.rig.joints) {
+      start[joint.name] = joint.initial_position_rad;
+    }
+    return run_console_script(experiment, capture_script(poses, start, experiment.rig,
+                                                         parser.value("camera"), out, settle_s));
+  } catch (const CalibrationInputError& input_error) {
+    std::cerr << "cambio calibrate capture: " << input_error.what() << "\n";
+    return kExitBadInput;
+  }
+}
+
 }  // namespace
 
 int run_calibrate_command(std::span<const std::string> args) {
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::cout << "usage: cambio calibrate stereo|hand-eye OPTIONS\n"
+    std::cout << "usage: cambio calibrate stereo|hand-eye|capture OPTIONS\n"
                  "  stereo    a stereo pair's intrinsics, distortion and relative pose from "
                  "chessboard views (cambio calibrate stereo --help)\n"
                  "  hand-eye  a camera's mount on its link from views of a fixed board at "
-                 "several head poses (cambio calibrate hand-eye --help)\n";
+                 "several head poses (cambio calibrate hand-eye --help)\n"
+                 "  capture   move the head through poses and save each view with the joints' "
+                 "readings (cambio calibrate capture --help)\n";
     return kExitOk;
   }
   if (!args.empty() && args[0] == "hand-eye") return run_hand_eye(args.subspan(1));
+  if (!args.empty() && args[0] == "capture") return run_capture(args.subspan(1));
   if (args.empty() || args[0] != "stereo") {
     throw UsageError("calibrate: " +
                      (args.empty() ? std::string("expected a subcommand")

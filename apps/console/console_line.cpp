@@ -177,6 +177,12 @@ class Parser {
     if (name == "reach") return parse_reach();
     if (name == "grasp" || name == "release") return Gripper{name == "grasp", arm()};
     if (name == "home") return Home{more() ? words_[next_++] : std::string()};
+    if (name == "capture") {
+      Capture capture;
+      capture.camera = word("a camera");
+      capture.directory = word("a directory after the camera");
+      return capture;
+    }
     return parse_ssm();  // The one name left: find_syntax() knew it.
   }
 

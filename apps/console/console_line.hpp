@@ -70,8 +70,14 @@ struct Ssm {
   std::string save_directory;
 };
 
+/// Save a camera's newest image with the joints' readings (a hand-eye calibration's view).
+struct Capture {
+  std::string camera;
+  std::string directory;
+};
+
 using Command = std::variant<Help, Quit, Status, Wait, MoveJoint, Look, Saccade, Pursue, Hold,
-                             Verge, Reach, Gripper, Home, Ssm>;
+                             Verge, Reach, Gripper, Home, Ssm, Capture>;
 
 /// A line that is not a command: what was expected, and where (the word, 1-based).
 struct ParseError {

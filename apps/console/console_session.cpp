@@ -159,6 +159,8 @@ ConsoleSession::Next ConsoleSession::carry_out(const console::Command& command,
           }
         } else if constexpr (std::is_same_v<T, Ssm>) {
           print_ssm(c.save_directory);
+        } else if constexpr (std::is_same_v<T, Capture>) {
+          capture(c.camera, c.directory, now_ns);
         }
       },
       command);

@@ -34,6 +34,10 @@ class ConsoleSession {
   /// Parses and carries out one line; `now_ns` is the run's clock. Never throws for a bad line.
   Next execute(const std::string& line, std::int64_t now_ns);
 
+  /// Takes the stereo pair's images for `capture` (before the run; the remote session does
+  /// not: a remote node may not write files on the robot's computer).
+  void enable_capture() { images_ = job_.claim_observed_stereo_frames(); }
+
   std::uint64_t lines_refused() const { return lines_refused_; }
   /// Prints (and counts as refused lines) what the gaze loop and the arms refused since last
   /// asked: the console calls it once a command has had a control period to take effect, so a
@@ -48,6 +52,8 @@ class ConsoleSession {
   bool aim(const console::Target& target, bool saccade);
   void print_status(std::int64_t now_ns);
   void print_ssm(const std::string& save_directory);
+  /// The `capture` line (console_session_capture.cpp).
+  void capture(const std::string& camera, const std::string& directory, std::int64_t now_ns);
 
   MainJob& job_;
   RobotActions& actions_;
@@ -60,6 +66,7 @@ class ConsoleSession {
   std::uint64_t gaze_rejections_seen_ = 0;
   std::uint64_t arm_commands_seen_ = 0;
   std::uint64_t homes_refused_seen_ = 0;
+  hal::TripleBuffer<hal::StereoFrame>* images_ = nullptr;  // For capture; null: none.
 };
 
 }  // namespace cambio::app

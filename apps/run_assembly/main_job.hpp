@@ -125,6 +125,10 @@ class MainJob {
   sim::GroundTruth* ground_truth();
   /// The SSM loop; null when the rig has no stereo pair.
   perception::SsmServer* perception() { return perception_loop_.get(); }
+  /// The stereo pair's images for one more reader beside the SSM (the console's `capture`), or
+  /// null when the rig has no pair or another reader (the ROS 2 bridge's images) has them. Call
+  /// before run().
+  hal::TripleBuffer<hal::StereoFrame>* claim_observed_stereo_frames();
 
   /// The newest frame of each camera (rig order), for --out, after run(); sequence 0 if none
   /// arrived. A foveated sim eye (config::SimFoveationConfig) is rendered whole instead, at the
@@ -230,6 +234,7 @@ class MainJob {
   std::unique_ptr<behaviour::BehaviourLoop> behaviour_loop_;
   // With `ros2:`, the run as a ROS 2 node; publishing while run() or run_stepped() runs.
   std::unique_ptr<ros2::Ros2Bridge> ros2_bridge_;
+  bool observed_stereo_claimed_ = false;  // The camera loop's observed pairs have their reader.
 };
 
 }  // namespace cambio::app

@@ -95,7 +95,7 @@ void MainJob::build_ros2_bridge() {
   sources.joint_states = std::move(sampler);
   sources.robot_description = ros2::make_urdf(hardware_, experiment_.rig.name);
   if (config.images_hz > 0.0 && hardware_.stereo) {
-    sources.stereo_images = &camera_loop_->observed_stereo_frames();
+    sources.stereo_images = claim_observed_stereo_frames();
     sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
                               hardware_.cameras[camera_index(hardware_.stereo->right_camera)]};
   }
@@ -129,6 +129,12 @@ void MainJob::build_ros2_bridge() {
     sources.trajectory_max_joints = control::JointTrajectory::kMaxJoints;
   }
   ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
+}
+
+hal::TripleBuffer<hal::StereoFrame>* MainJob::claim_observed_stereo_frames() {
+  if (observed_stereo_claimed_ || !camera_loop_ || !camera_loop_->has_stereo()) return nullptr;
+  observed_stereo_claimed_ = true;
+  return &camera_loop_->observed_stereo_frames();
 }
 
 bool MainJob::set_remote_command_handler(std::function<std::string(const std::string&)> handler) {

@@ -59,6 +59,13 @@ std::optional<std::string> LineSource::next(bool& eof) {
     return line;
   }
   std::string line;
+  if (script_) {
+    eof = static_cast<std::size_t>(line_number_) >= script_->size();
+    if (eof) return std::nullopt;
+    line = (*script_)[static_cast<std::size_t>(line_number_++)];
+    std::cout << kPrompt << line << "\n";
+    return line;
+  }
   const LineRead got = read_bounded_line(std::cin, line);
   ++line_number_;
   eof = got != LineRead::kLine;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace cambio::app {
 
@@ -49,6 +50,8 @@ class LineSource {
   explicit LineSource(bool interactive) {
     if (interactive) terminal_.emplace();
   }
+  /// The lines of a script a command made (calibrate capture), carried out as piped ones.
+  explicit LineSource(std::vector<std::string> script) : script_(std::move(script)) {}
   bool interactive() const { return terminal_.has_value(); }
   /// nullopt with `eof` false: nothing typed yet (terminal only).
   std::optional<std::string> next(bool& eof);
@@ -62,6 +65,7 @@ class LineSource {
   void report_too_long();
 
   std::optional<TerminalLines> terminal_;
+  std::optional<std::vector<std::string>> script_;
   int line_number_ = 0;
   bool input_refused_ = false;
 };

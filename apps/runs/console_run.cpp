@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <new>
+#include <optional>
 
 #include "builtin_backends.hpp"
 #include "command.hpp"
@@ -83,17 +84,21 @@ int report_console_end(const MainJobResult& result, const ConsoleSession& sessio
 
 }  // namespace
 
-int run_console(const config::ExperimentConfig& experiment, double real_time_factor) {
+namespace {
+
+int run_session(const config::ExperimentConfig& experiment, double real_time_factor,
+                std::optional<std::vector<std::string>> script) {
   hal::BackendFactory factory;
   int exit_status = kExitOk;
   const std::unique_ptr<MainJob> job = make_job_or_report(experiment, factory, exit_status);
   if (!job) return exit_status;
   ConsoleSession session(*job, *job->actions(), scene_object_names(experiment), std::cout);
+  session.enable_capture();
 
-  const bool interactive = isatty(STDIN_FILENO) != 0;
+  const bool interactive = !script && isatty(STDIN_FILENO) != 0;
   print_console_start(experiment, *job, real_time_factor, interactive);
   const auto& stop = install_stop_signal_handlers();
-  LineSource lines(interactive);
+  LineSource lines = script ? LineSource(std::move(*script)) : LineSource(interactive);
   ConsoleRun run{*job, session, lines, stop, real_time_factor};
   MainJobResult result;
   try {
@@ -104,7 +109,20 @@ int run_console(const config::ExperimentConfig& experiment, double real_time_fac
     std::cerr << "cambio console: " << error.what() << "\n";
     return kExitDeviceFault;
   }
-  return report_console_end(result, session, lines);
+  const int status = report_console_end(result, session, lines);
+  if (status == kExitOk && script && session.lines_refused() > 0) return kExitBadInput;
+  return status;
+}
+
+}  // namespace
+
+int run_console(const config::ExperimentConfig& experiment, double real_time_factor) {
+  return run_session(experiment, real_time_factor, std::nullopt);
+}
+
+int run_console_script(const config::ExperimentConfig& experiment,
+                       std::vector<std::string> script) {
+  return run_session(experiment, 0.0, std::move(script));
 }
 
 }  // namespace cambio::app

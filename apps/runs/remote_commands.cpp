@@ -22,7 +22,7 @@ bool acts_on_the_robot(const console::Command& command) {
         using T = std::decay_t<decltype(c)>;
         return !(std::is_same_v<T, console::Help> || std::is_same_v<T, console::Quit> ||
                  std::is_same_v<T, console::Status> || std::is_same_v<T, console::Wait> ||
-                 std::is_same_v<T, console::Ssm>);
+                 std::is_same_v<T, console::Ssm> || std::is_same_v<T, console::Capture>);
       },
       command);
 }

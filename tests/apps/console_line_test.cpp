@@ -117,13 +117,15 @@ TEST(ConsoleCommand, BadArgumentsSayWhatWasExpected) {
   EXPECT_NE(error("grasp both").find("left, right or nothing, found \"both\""), std::string::npos);
   EXPECT_NE(error("reach up").find("left, right or nothing, found \"up\""), std::string::npos);
   EXPECT_NE(error("home pan tilt").find("nothing after pan, found \"tilt\""), std::string::npos);
+  EXPECT_NE(error("capture left_eye").find("a directory after the camera"), std::string::npos);
 }
 
 TEST(ConsoleCommand, HelpListsEveryCommand) {
   const auto lines = help_lines();
-  EXPECT_EQ(lines.size(), 15U);
-  for (const char* name : {"help", "quit", "status", "wait", "move", "look", "saccade", "pursue",
-                           "hold", "verge", "reach", "grasp", "release", "home", "ssm"}) {
+  EXPECT_EQ(lines.size(), 16U);
+  for (const char* name :
+       {"help", "quit", "status", "wait", "move", "look", "saccade", "pursue", "hold", "verge",
+        "reach", "grasp", "release", "home", "ssm", "capture"}) {
     bool found = false;
     for (const auto& line : lines) found = found || line.rfind(name, 0) == 0;
     EXPECT_TRUE(found) << name;

@@ -41,8 +41,9 @@ void expect_refused(const CommandResult& result, int exit_code, const std::strin
 }
 
 TEST_F(CalibrateCommand, RefusesAMissingOrUnknownSubcommand) {
-  expect_refused(calibrate(""), 2,
-                 "calibrate: expected a subcommand (the subcommands are: stereo, hand-eye)");
+  expect_refused(
+      calibrate(""), 2,
+      "calibrate: expected a subcommand (the subcommands are: stereo, hand-eye, capture)");
   expect_refused(calibrate("mono"), 2, "unknown subcommand 'mono'");
 }
 

@@ -125,12 +125,16 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
     last_command_sequence_ = command.sequence;
     apply(command, now_ns);
   }
-  // An unwritten channel holds a zero sequence: no trajectory.
-  if (trajectories_ != nullptr && trajectories_->version() > 0 &&
-      trajectories_->read(trajectory_) && trajectory_.sequence != 0 &&
-      trajectory_.sequence != last_trajectory_sequence_) {
-    last_trajectory_sequence_ = trajectory_.sequence;
-    start_trajectory(now_ns);
+  // A trajectory is 17 KB: copied only when the channel has a new one (an unwritten channel is
+  // at version 0), not every cycle.
+  std::uint64_t version = 0;
+  if (trajectories_ != nullptr && trajectories_->version() != trajectory_version_ &&
+      trajectories_->read(trajectory_, &version)) {
+    trajectory_version_ = version;
+    if (trajectory_.sequence != 0 && trajectory_.sequence != last_trajectory_sequence_) {
+      last_trajectory_sequence_ = trajectory_.sequence;
+      start_trajectory(now_ns);
+    }
   }
   status_.joints_held = tracking == CommandTracking::Step::kFrozen;
   switch (tracking) {

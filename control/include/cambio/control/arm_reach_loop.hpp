@@ -210,6 +210,7 @@ class ArmReachLoop final : public hal::Loop {
   const hal::SeqlockChannel<JointTrajectory>* trajectories_ = nullptr;
   JointTrajectory trajectory_{};  // The newest read from trajectories_.
   std::uint64_t last_trajectory_sequence_ = 0;
+  std::uint64_t trajectory_version_ = 0;  // The channel's version last read.
   JointTrajectoryFollower follower_;
   GazeStatus gaze_status_{};
   ArmStatus status_{};

@@ -617,6 +617,15 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
                             std::abs(pending_jump_rad_) <= 2.0 * std::abs(error_rad);
       if (!confirms) {
         pending_jump_rad_ = error_rad;
+        pending_jump_since_ns_ = summary.stamp_ns;
+        ++held_jumps_;
+        return;
+      }
+      const bool from_anchor = anchored_ && std::abs(asked_rad - anchor_rad_) > kVergenceJumpRad;
+      const double jump_age_s =
+          static_cast<double>(summary.stamp_ns - pending_jump_since_ns_) * 1e-9;
+      if (from_anchor && !against_anchor && jump_age_s < kJumpFromAnchorAfter_s) {
+        pending_jump_rad_ = error_rad;  // Still confirming: the next reading is compared to it.
         ++held_jumps_;
         return;
       }

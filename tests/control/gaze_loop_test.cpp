@@ -397,6 +397,12 @@ TEST(GazeLoop, VergenceNeverDivergesNorWindsUpAtALimit) {
   EXPECT_LT(head.status().vergence_rad, at_limit - 1.0 * kDeg) << "wound up at the limit";
 }
 
+/// Control cycles in `duration_s`, rounded up to whole camera frames.
+int cycles_for(double duration_s) {
+  const int frames = static_cast<int>(std::ceil(duration_s / (kPeriodS * kCyclesPerFrame)));
+  return (frames + 1) * kCyclesPerFrame;
+}
+
 /// The sphere of the vergence tests: 1 m ahead, 8 cm left of the head's centre.
 const Eigen::Vector3d kSphere(1.0, 0.14, 1.40);
 
@@ -425,8 +431,11 @@ TEST(GazeLoop, OnceVergedASuddenJumpNeedsASecondMeasurement) {
   EXPECT_EQ(head.loop().held_jumps(), 1U);
   for (int i = 0; i < 100; ++i) head.step(&sphere);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4);
-  // The target's depth really changed: the second measurement confirms the first.
+  // Two frames agree, but an object crossing the fovea reads alike for a while: still held.
   for (int i = 0; i < 2 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed a passing object";
+  // The target's depth really changed: readings that agree for longer than a crossing takes.
+  for (int i = 0; i < cycles_for(GazeLoop::kJumpFromAnchorAfter_s); ++i) head.step(&sphere, 40.0);
   EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
 }
 
@@ -440,9 +449,12 @@ TEST(GazeLoop, ADepthJumpWhileTheDominantFoveaHoldsStillIsNotFollowedAndTheAncho
   for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed an occluder";
   EXPECT_GE(head.loop().occlusion_rejections(), 9U);
-  // The dominant fovea changes too (it may be a new surface): the jump is followed, as before.
+  // The dominant fovea changes too (it may be a new surface): the jump is followed once it has
+  // lasted longer than an object takes to cross the fovea.
   head.set_steady_fovea(false);
   for (int i = 0; i < 3 * kCyclesPerFrame; ++i) head.step(&sphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed a passing object";
+  for (int i = 0; i < cycles_for(GazeLoop::kJumpFromAnchorAfter_s); ++i) head.step(&sphere, 40.0);
   EXPECT_GT(head.status().vergence_rad, verged + 1.0 * kDeg);
   // The anchored surface is measured again: back to its vergence in one frame, not converged
   // on anew.
@@ -488,21 +500,27 @@ TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {
   GazeHarness head(eyes_on_sphere());
   const double verged = verge_on_sphere(head);
   ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, sphere), 0.05);
-  // A ball 0.45 m in front of the dominant eye, on its line of sight, for 0.3 s: it crosses the
-  // dominant eye's view too (no steady fovea), so the verging eye follows it and verges on it.
+  // A ball 0.45 m in front of the dominant eye, on its line of sight: it crosses the dominant
+  // eye's view too (no steady fovea). Passing quicker than kJumpFromAnchorAfter_s, it is not
+  // followed at all.
   const Eigen::Isometry3d X_WL = head.camera_pose_W(hal::Eye::kLeft);
   const Eigen::Vector3d ball = X_WL.translation() + 0.45 * X_WL.linear().col(2);
-  for (int i = 0; i < 60; ++i) head.step(&ball);
+  for (int i = 0; i < cycles_for(0.6 * GazeLoop::kJumpFromAnchorAfter_s); ++i) head.step(&ball);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed a passing ball";
+  for (int i = 0; i < 100; ++i) head.step(&sphere);
+  // Staying longer, it is followed and verged on.
+  for (int i = 0; i < cycles_for(GazeLoop::kJumpFromAnchorAfter_s + 0.2); ++i) head.step(&ball);
   ASSERT_LT(head.gaze_error_deg(hal::Eye::kRight, ball), 0.25) << "never verged on the ball";
   EXPECT_EQ(head.loop().reanchors(), 0U);
   // The ball has gone and the sphere is measured again: back to its vergence in one frame.
   for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "the ball became the anchor";
   EXPECT_EQ(head.loop().anchor_returns(), 1U);
-  // A surface held longer than kReanchorAfter_s is the fixated one now (the target moved in
-  // depth): the old vergence is no longer returned to at once.
+  // A surface followed and held longer than kReanchorAfter_s is the fixated one now (the target
+  // moved in depth): the old vergence is no longer returned to at once.
   for (int i = 0; i < 400; ++i) head.step(&sphere);
-  const int held_cycles = static_cast<int>(1.5 * GazeLoop::kReanchorAfter_s / kPeriodS);
+  const int held_cycles =
+      cycles_for(GazeLoop::kJumpFromAnchorAfter_s + 1.5 * GazeLoop::kReanchorAfter_s);
   for (int i = 0; i < held_cycles; ++i) head.step(&ball);
   EXPECT_EQ(head.loop().reanchors(), 1U);
   for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere);

@@ -166,6 +166,11 @@ class GazeLoop final : public hal::Loop {
   /// A vergence more than kVergenceJumpRad from the anchor becomes the anchor only once the eye
   /// has stayed verged near it this long: longer than a distractor takes to cross the view.
   static constexpr double kReanchorAfter_s = 0.5;
+  /// A confirmed jump away from the anchor while the dominant fovea's view changes (an object
+  /// crossing in front of the target, or the target's own motion) is believed only once it has
+  /// lasted this long: about as long as an object takes to cross the fovea, so a passing one
+  /// never draws the verging eye off (each reading held counts in held_jumps()).
+  static constexpr double kJumpFromAnchorAfter_s = 0.25;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue, kTrajectory };
@@ -300,6 +305,7 @@ class GazeLoop final : public hal::Loop {
   double elsewhere_rad_ = 0.0;
   bool verged_ = false;            // The vergence error has been small since the last command.
   double pending_jump_rad_ = 0.0;  // A large error waiting for confirmation.
+  std::int64_t pending_jump_since_ns_ = 0;  // The stamp of the first reading of that jump.
   // A measurement below min_confidence (but above a third of it) waiting for the next to agree;
   // the vergence applied since it was measured, to compare like with like.
   bool weak_pending_ = false;

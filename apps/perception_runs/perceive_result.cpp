@@ -68,6 +68,23 @@ Json perceive_result_json(const PerceiveInputs& inputs, const perception::Sensor
   for (int k = 0; k < s.levels; ++k) levels.push_back(level_json(s, k, config.moments.map));
   Json maps = Json::array();
   for (const auto& map : servo.operators().maps()) maps.push_back(map.name);
+  const perception::DisparityScanResult& scan = servo.last_scan();
+  Json scan_json = nullptr;
+  if (scan.searched) {
+    Json candidates = Json::array();
+    for (int i = 0; i < scan.count; ++i) {
+      const perception::DisparityCandidate& c = scan.candidates[static_cast<std::size_t>(i)];
+      candidates.push_back({{"disparity_px", six_digits(c.disparity_px)},
+                            {"score", six_digits(c.score)},
+                            {"context_score", six_digits(c.context_score)}});
+    }
+    scan_json = {{"level", scan.level},
+                 {"scale_px", scan.scale_px},
+                 {"window_tier", scan.window_tier},
+                 {"window_samples", scan.window_samples},
+                 {"texture_rms", six_digits(scan.texture_rms)},
+                 {"candidates", candidates}};
+  }
   return {{"left", inputs.left_path},
           {"right", inputs.right_path},
           {"config", inputs.config_path},
@@ -88,6 +105,7 @@ Json perceive_result_json(const PerceiveInputs& inputs, const perception::Sensor
             {"width_px", config.retina.width_px},
             {"height_px", config.retina.height_px},
             {"apron_px", servo.retina(hal::Eye::kLeft).apron()}}},
+          {"scan", scan_json},
           {"levels", levels},
           {"maps", maps},
           {"timings_us",

@@ -141,6 +141,38 @@ TEST(CambioCli, PerceiveWritesValidJsonWhateverTheFileNames) {
   EXPECT_TRUE(json["timings_us"].contains("total")) << text;
 }
 
+// The whole-range scan's hypotheses are reported (what a user tuning the SSM looks at when a
+// periodic or striped texture is matched at the wrong disparity); without a scan, null.
+TEST(CambioCli, PerceiveReportsTheScansCandidates) {
+  const auto dir = std::filesystem::temp_directory_path() / "cambio_cli_test_perceive_scan";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_textured_pair(dir / "left.png", dir / "right.png");
+  const std::string images = "perceive --left '" + (dir / "left.png").string() + "' --right '" +
+                             (dir / "right.png").string() + "'";
+  const auto read_result = [&](const std::string& out) {
+    std::ifstream file(dir / out / "result.json");
+    return parse_json(
+        std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>()));
+  };
+  auto result = run_cambio(images + " --set disparity.scan_range_px=40 --out '" +
+                           (dir / "scanned").string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto scanned = read_result("scanned");
+  const auto& scan = scanned["scan"];
+  ASSERT_TRUE(scan.is_object()) << scanned.dump();
+  ASSERT_FALSE(scan["candidates"].empty()) << scan.dump();
+  // The right image is the left moved 3 px to the left: x_left - x_right = +3 px.
+  EXPECT_NEAR(scan["candidates"][0]["disparity_px"].get<double>(), 3.0, 1.0) << scan.dump();
+  EXPECT_GT(scan["candidates"][0]["score"].get<double>(), 0.5) << scan.dump();
+  EXPECT_GE(scan["window_tier"].get<int>(), 0) << scan.dump();
+
+  result = run_cambio(images + " --set disparity.scan_range_px=0 --out '" +
+                      (dir / "plain").string() + "'");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_TRUE(read_result("plain")["scan"].is_null());
+}
+
 TEST(CambioCli, PerceptionBenchPrintsTheFiguresAsJson) {
   const auto result = run_cambio("perception-bench --json --repeats 5", Capture::kStdout);
   ASSERT_EQ(result.exit_code, 0) << result.output;

@@ -95,6 +95,8 @@ class SensoryServo {
   int moments_map() const { return moments_map_; }
   int image_width_px() const { return image_width_; }
   int image_height_px() const { return image_height_; }
+  /// The last whole-range scan's hypotheses (searched false when the scan is off or failed).
+  const DisparityScanResult& last_scan() const { return scan_result_; }
 
  private:
   SsmConfig config_;

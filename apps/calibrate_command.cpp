@@ -166,6 +166,12 @@ int run_capture(std::span<const std::string> args) {
     report_config_error(error);
     return kExitBadInput;
   }
+  // Calibration views are whole frames: a sim camera's foveated rendering (a full-resolution
+  // square over a coarse field, a speed-up for the loops) would blur the board's corners outside
+  // the square, about 0.4 px, and tilt each view's board pose by a degree or two.
+  for (config::CameraConfig& camera : experiment.rig.cameras) {
+    camera.sim_foveation = config::SimFoveationConfig{};
+  }
   const std::filesystem::path out(parser.value("out"));
   std::error_code error;
   if (std::filesystem::exists(out, error) && !std::filesystem::is_empty(out, error)) {

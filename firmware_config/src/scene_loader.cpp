@@ -1,5 +1,6 @@
 // Scene files (scenes/*.yaml): the objects around the robot. Read with MapReader so every
 // problem is reported at once with file:line:col.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -20,12 +21,24 @@ std::array<double, 3> read_rgb(MapReader& map, std::string_view key,
 
 TextureConfig read_texture(MapReader map, TextureConfig fallback) {
   TextureConfig texture = fallback;
-  const std::string type = map.choice("type", {"none", "checker", "noise", "stripes", "dots"});
+  const std::string type =
+      map.choice("type", {"none", "checker", "noise", "stripes", "dots", "chessboard"});
   if (type == "none") texture.kind = TextureKind::kNone;
   if (type == "checker") texture.kind = TextureKind::kChecker;
   if (type == "noise") texture.kind = TextureKind::kNoise;
   if (type == "stripes") texture.kind = TextureKind::kStripes;
   if (type == "dots") texture.kind = TextureKind::kDots;
+  if (type == "chessboard") {
+    texture.kind = TextureKind::kChessboard;
+    const std::vector<double> squares = map.numbers("squares", Range::closed(2.0, 64.0));
+    const bool whole = squares.size() == 2 && squares[0] == std::floor(squares[0]) &&
+                       squares[1] == std::floor(squares[1]);
+    if (!whole) {
+      map.error("squares", "a chessboard needs [across, down]: two whole numbers of squares");
+    } else {
+      texture.squares = {static_cast<int>(squares[0]), static_cast<int>(squares[1])};
+    }
+  }
   texture.feature_size_m =
       map.number_or("feature_size_m", fallback.feature_size_m, Range::positive());
   texture.second_rgb = read_rgb(map, "second_rgb", fallback.second_rgb);
@@ -33,6 +46,28 @@ TextureConfig read_texture(MapReader map, TextureConfig fallback) {
       "seed", static_cast<std::int64_t>(fallback.pattern_seed), Range::non_negative()));
   map.finish();
   return texture;
+}
+
+/// A chessboard is drawn on each face of a box's cube texture, one face of which spans the
+/// box's largest extent: on a box whose two largest sizes are equal, the face the board is seen
+/// on is that square, and the squares are feature_size_m wide.
+void check_chessboard_object(MapReader& map, const SceneObjectConfig& object) {
+  std::array<double, 3> sizes = object.size_m;
+  std::sort(sizes.begin(), sizes.end());
+  if (object.shape != ShapeKind::kBox || std::abs(sizes[2] - sizes[1]) > 1e-9 * sizes[2]) {
+    map.error("texture",
+              "a chessboard goes on a box with a square face (its two largest sizes equal), "
+              "where its squares are square");
+    return;
+  }
+  const auto& texture = object.texture;
+  const double across_m = texture.squares[0] * texture.feature_size_m;
+  const double down_m = texture.squares[1] * texture.feature_size_m;
+  if (std::max(across_m, down_m) > sizes[2] + 1e-12) {
+    map.error("texture", "the board (" + std::to_string(across_m) + " x " + std::to_string(down_m) +
+                             " m) is larger than the box's face (" + std::to_string(sizes[2]) +
+                             " m)");
+  }
 }
 
 std::array<double, 3> normalised(MapReader& map, std::string_view key, std::array<double, 3> v) {
@@ -127,6 +162,7 @@ SceneObjectConfig read_object(MapReader map) {
   object.rgb = read_rgb(map, "rgb", object.rgb);
   if (auto texture = map.optional_map("texture")) {
     object.texture = read_texture(std::move(*texture), object.texture);
+    if (object.texture.kind == TextureKind::kChessboard) check_chessboard_object(map, object);
   }
   const std::string body = map.choice_or("body", {"static", "free", "scripted"}, "static");
   object.body = body == "free"       ? BodyKind::kFree
@@ -175,6 +211,10 @@ SceneConfig read_scene(MapReader root, const std::string& file) {
     scene.floor_rgb = read_rgb(*world, "floor_rgb", scene.floor_rgb);
     if (auto texture = world->optional_map("floor_texture")) {
       scene.floor_texture = read_texture(std::move(*texture), scene.floor_texture);
+      if (scene.floor_texture.kind == TextureKind::kChessboard) {
+        world->error("floor_texture",
+                     "a chessboard goes on a box (a calibration board), not the floor");
+      }
     }
     scene.sky_rgb = read_rgb(*world, "sky_rgb", scene.sky_rgb);
     world->finish();

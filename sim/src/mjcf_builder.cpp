@@ -32,6 +32,9 @@ using config::TextureKind;
 constexpr int kMinFacePx = 32;
 constexpr int kMaxFacePx = 512;
 constexpr double kTexelsPerFeature = 12.0;
+/// A chessboard's squares: enough texels that its corners are found to a tenth of a pixel
+/// at calibration distances (a 25 mm square half a metre away spans about 28 px).
+constexpr double kTexelsPerChessboardSquare = 40.0;
 constexpr int kTiledTexturePx = 256;
 
 Eigen::Matrix3d rotation_from_rpy(const std::array<double, 3>& rpy) {
@@ -212,8 +215,9 @@ class Builder {
       size_px = kTiledTexturePx;
     } else {
       // One cube face spans the object's largest extent.
-      size_px =
-          static_cast<int>(std::lround(extent_m / texture.feature_size_m * kTexelsPerFeature));
+      const double texels =
+          texture.kind == TextureKind::kChessboard ? kTexelsPerChessboardSquare : kTexelsPerFeature;
+      size_px = static_cast<int>(std::lround(extent_m / texture.feature_size_m * texels));
       size_px = std::clamp(size_px, kMinFacePx, kMaxFacePx);
       feature_px = size_px * texture.feature_size_m / extent_m;
     }

@@ -116,6 +116,33 @@ void fill_procedural_texture(const config::TextureConfig& texture, std::array<do
       }
       return;
     }
+    case TextureKind::kChessboard: {
+      // The board centred on each square face (a cube texture stacks six: height = 6 x width),
+      // in the second colour and the object's, on a margin of the object's colour; the squares'
+      // edges are antialiased by the area of each texel they cover.
+      const int face = width_px;
+      const double board_w = texture.squares[0] * feature_px;
+      const double board_h = texture.squares[1] * feature_px;
+      const double left = 0.5 * (face - board_w);
+      const double top = 0.5 * (face - board_h);
+      for (int y = 0; y < height_px; ++y) {
+        for (int x = 0; x < width_px; ++x) {
+          double dark = 0.0;  // Share of the texel on dark squares, over 4 x 4 sub-samples.
+          for (int sy = 0; sy < 4; ++sy) {
+            for (int sx = 0; sx < 4; ++sx) {
+              const double u = (x + (sx + 0.5) / 4.0 - left) / feature_px;
+              const double v = (y % face + (sy + 0.5) / 4.0 - top) / feature_px;
+              if (u < 0.0 || v < 0.0 || u >= texture.squares[0] || v >= texture.squares[1]) {
+                continue;
+              }
+              dark += (static_cast<int>(u) + static_cast<int>(v)) % 2 == 0 ? 1.0 / 16.0 : 0.0;
+            }
+          }
+          put(rgb_out, static_cast<std::size_t>(y * width_px + x), rgb, second, dark);
+        }
+      }
+      return;
+    }
     case TextureKind::kDots: {
       for (int i = 0; i < width_px * height_px; ++i)
         put(rgb_out, static_cast<std::size_t>(i), rgb, rgb, 0.0);

@@ -64,6 +64,30 @@ TEST(SceneErrorsTest, UnknownTextureIsReportedAtItsLine) {
   EXPECT_NE(message.find("noise"), std::string::npos) << message;
 }
 
+TEST(SceneErrorsTest, AChessboardNeedsItsSquaresAndABoxWithASquareFaceItFits) {
+  const auto board = [](const std::string& shape, const std::string& texture) {
+    return scene_error("objects:\n  - name: board\n    " + shape +
+                       "\n    xyz_m: [1, 0, 1]\n    texture: " + texture + "\n");
+  };
+  const std::string fine = "{type: chessboard, squares: [10, 7], feature_size_m: 0.025}";
+  EXPECT_EQ(board("shape: box\n    size_m: [0.01, 0.3, 0.3]", fine), "no error");
+  std::string message = board("shape: box\n    size_m: [0.01, 0.3, 0.3]",
+                              "{type: chessboard, feature_size_m: 0.025}");
+  EXPECT_NE(message.find("squares"), std::string::npos) << message;
+  message = board("shape: box\n    size_m: [0.01, 0.3, 0.3]",
+                  "{type: chessboard, squares: [10.5, 7], feature_size_m: 0.025}");
+  EXPECT_NE(message.find("two whole numbers of squares"), std::string::npos) << message;
+  message = board("shape: box\n    size_m: [0.01, 0.3, 0.2]", fine);
+  EXPECT_NE(message.find("bad_scene.yaml:6:"), std::string::npos) << message;
+  EXPECT_NE(message.find("a box with a square face"), std::string::npos) << message;
+  message = board("shape: sphere\n    radius_m: 0.2", fine);
+  EXPECT_NE(message.find("a box with a square face"), std::string::npos) << message;
+  message = board("shape: box\n    size_m: [0.01, 0.2, 0.2]", fine);
+  EXPECT_NE(message.find("is larger than the box's face (0.2"), std::string::npos) << message;
+  message = scene_error("world:\n  floor_texture: " + fine + "\n");
+  EXPECT_NE(message.find("not the floor"), std::string::npos) << message;
+}
+
 TEST(SceneErrorsTest, EveryProblemIsReportedAtOnce) {
   try {
     config::load_scene_from_string(

@@ -5,8 +5,8 @@
 // `cambio calibrate hand-eye --views DIR --board 9x6 --square-mm 25 --rig RIG --camera CAM
 // --out DIR`: a camera's mount on its link from views of a fixed board at several head poses
 // (calibration/hand_eye_calibration_run.hpp).
-// `cambio calibrate capture EXPERIMENT.yaml --poses FILE --camera CAM --out DIR`: moves the head
-// through the poses and saves each view with the joints' readings (hand-eye's input), by the
+// `cambio calibrate capture EXPERIMENT.yaml --poses FILE --camera CAM|stereo --out DIR`: moves the
+// head through the poses and saves each view with the joints' readings (hand-eye's input), by the
 // console's lines (calibration/capture_script.hpp).
 #include <filesystem>
 #include <initializer_list>
@@ -149,10 +149,13 @@ int run_hand_eye(std::span<const std::string> args) {
 
 int run_capture(std::span<const std::string> args) {
   ArgumentParser parser("calibrate capture",
-                        "EXPERIMENT.yaml --poses FILE --camera CAMERA --out DIR [--settle-s S]");
+                        "EXPERIMENT.yaml --poses FILE --camera CAMERA|stereo --out DIR "
+                        "[--settle-s S]");
   parser.positional("EXPERIMENT.yaml", "the experiment whose rig (and scene, in sim) to drive")
       .option("poses", "FILE", "the head poses: poses: [{neck_pan: 10, neck_tilt: -5, ...}] (deg)")
-      .option("camera", "CAMERA", "the stereo camera whose views are saved")
+      .option("camera", "CAMERA|stereo",
+              "the stereo camera whose views are saved (viewNN.png, for calibrate hand-eye), or "
+              "stereo for both (leftNN.png and rightNN.png, for calibrate stereo)")
       .option("out", "DIR", "where viewNN.png and viewNN.yaml go (a new or empty folder)")
       .option("settle-s", "S", "time at each pose before its view is taken (default 0.5 s)");
   if (!parser.parse(args)) return kExitOk;

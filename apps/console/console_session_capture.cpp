@@ -10,7 +10,9 @@
 #include "image_files.hpp"
 
 // The console's `capture CAMERA DIR`: the stereo camera's newest image and the joints' readings,
-// saved as the next viewNN.png with viewNN.yaml in DIR (what `cambio calibrate hand-eye` reads).
+// saved as the next viewNN.png with viewNN.yaml in DIR (what `cambio calibrate hand-eye` reads);
+// `capture stereo DIR`: both images of the newest pair as leftNN.png and rightNN.png (what
+// `cambio calibrate stereo` reads), the readings in pairNN.yaml.
 
 namespace cambio::app {
 
@@ -18,17 +20,18 @@ using console::detail::format;
 
 namespace {
 
-/// The next free view number in `directory`: one above the highest viewNN.* there.
-int next_view(const std::filesystem::path& directory) {
+/// The next free view number in `directory`: one above the highest <prefix>NN.* there.
+int next_view(const std::filesystem::path& directory, const std::string& prefix) {
   int highest = 0;
   std::error_code error;
+  const std::size_t n_prefix = prefix.size();
   for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
     const std::string stem = entry.path().stem().string();
-    if (stem.size() <= 4 || !stem.starts_with("view")) continue;
+    if (stem.size() <= n_prefix || !stem.starts_with(prefix)) continue;
     try {
       std::size_t used = 0;
-      const int n = std::stoi(stem.substr(4), &used);
-      if (used == stem.size() - 4) highest = std::max(highest, n);
+      const int n = std::stoi(stem.substr(n_prefix), &used);
+      if (used == stem.size() - n_prefix) highest = std::max(highest, n);
     } catch (const std::exception&) {
       // Not one of ours.
     }
@@ -55,12 +58,13 @@ void write_whole(const std::filesystem::path& path, const std::string& bytes) {
 void ConsoleSession::capture(const std::string& camera, const std::string& directory,
                              std::int64_t now_ns) {
   const hal::HardwareInfo& hardware = job_.hardware();
-  if (!hardware.stereo ||
-      (camera != hardware.stereo->left_camera && camera != hardware.stereo->right_camera)) {
+  const bool both = camera == "stereo";
+  if (!hardware.stereo || (!both && camera != hardware.stereo->left_camera &&
+                           camera != hardware.stereo->right_camera)) {
     ++lines_refused_;
     out_ << "refused: capture takes a camera of the stereo pair"
          << (hardware.stereo ? " (" + hardware.stereo->left_camera + " or " +
-                                   hardware.stereo->right_camera + ")"
+                                   hardware.stereo->right_camera + ") or stereo for both"
                              : std::string(": this rig has none"))
          << ", found " << config::in_quotes(camera) << "\n";
     return;
@@ -73,8 +77,8 @@ void ConsoleSession::capture(const std::string& camera, const std::string& direc
   }
   (void)images_->acquire();
   const hal::StereoFrame& pair = images_->front();
-  const hal::Image& image = camera == hardware.stereo->left_camera ? pair.left : pair.right;
-  if (image.sequence == 0) {
+  const hal::Image& image = camera == hardware.stereo->right_camera ? pair.right : pair.left;
+  if (image.sequence == 0 || (both && pair.right.sequence == 0)) {
     out_ << "capture: no image yet (wait a little)\n";
     return;
   }
@@ -85,24 +89,39 @@ void ConsoleSession::capture(const std::string& camera, const std::string& direc
   try {
     const std::filesystem::path folder(directory);
     std::filesystem::create_directories(folder);
-    const int view = next_view(folder);
-    const std::string id = format("view%02d", view);
+    const int view = next_view(folder, both ? "left" : "view");
+    const std::string number = format("%02d", view);
+    const std::string id = (both ? "pair" : "view") + number;
     std::string yaml = format(
         "# cambio console capture: camera %s, image stamp %.6f s, readings at %.6f s (run "
-        "clock)\ncamera: %s\nimage_stamp_s: %.9f\njoints_rad:\n",
+        "clock)\ncamera: %s\nimage_stamp_s: %.9f\n",
         camera.c_str(), static_cast<double>(image.stamp_ns) * 1e-9,
         static_cast<double>(now_ns) * 1e-9, camera.c_str(),
         static_cast<double>(image.stamp_ns) * 1e-9);
+    if (both) {
+      yaml +=
+          format("right_image_stamp_s: %.9f\n", static_cast<double>(pair.right.stamp_ns) * 1e-9);
+    }
+    yaml += "joints_rad:\n";
     for (std::size_t i = 0; i < job_.joint_order().size(); ++i) {
       yaml += format("  %s: %.17g\n", job_.joint_order()[i].c_str(), q_believed_rig_[i]);
     }
-    const std::vector<std::uint8_t> png = encode_png(image);
-    // The image first: a view is whole once its readings are there.
-    write_whole(folder / (id + ".png"), std::string(png.begin(), png.end()));
+    // The images first: a view is whole once its readings are there.
+    std::string images;
+    if (both) {
+      const std::vector<std::uint8_t> left = encode_png(pair.left);
+      const std::vector<std::uint8_t> right = encode_png(pair.right);
+      write_whole(folder / ("left" + number + ".png"), std::string(left.begin(), left.end()));
+      write_whole(folder / ("right" + number + ".png"), std::string(right.begin(), right.end()));
+      images = (folder / ("left" + number + ".png")).string() + ", right" + number + ".png";
+    } else {
+      const std::vector<std::uint8_t> png = encode_png(image);
+      write_whole(folder / (id + ".png"), std::string(png.begin(), png.end()));
+      images = (folder / (id + ".png")).string();
+    }
     write_whole(folder / (id + ".yaml"), yaml);
-    out_ << "capture: wrote " << (folder / (id + ".png")).string() << " and " << id
-         << ".yaml (image at " << format("%.3f", static_cast<double>(image.stamp_ns) * 1e-9)
-         << " s)\n";
+    out_ << "capture: wrote " << images << " and " << id << ".yaml (image at "
+         << format("%.3f", static_cast<double>(image.stamp_ns) * 1e-9) << " s)\n";
   } catch (const std::exception& error) {
     ++lines_refused_;
     out_ << "refused: capture: " << error.what() << "\n";

@@ -28,9 +28,10 @@ constexpr Syntax kCommands[] = {
      "home a joint's drive again (CiA 402 homing), or every joint whose drive lost its "
      "reference; it is then enabled where it homed"},
     {"ssm", "ssm [save DIR]", "print the SSM's features at the foveas; save the maps as PNG"},
-    {"capture", "capture CAMERA DIR",
+    {"capture", "capture CAMERA|stereo DIR",
      "save the camera's newest image and the joints' readings as viewNN.png and viewNN.yaml in "
-     "DIR (the views of cambio calibrate hand-eye)"},
+     "DIR (the views of cambio calibrate hand-eye); stereo: both images of the newest pair as "
+     "leftNN.png and rightNN.png, with pairNN.yaml (the views of cambio calibrate stereo)"},
 };
 
 }  // namespace

@@ -45,6 +45,15 @@ SsmVariantFigures time_ssm_variants(const SsmConfigs& configs, const BenchStereo
                                     int repeats) {
   SsmVariantFigures figures;
   figures.paper = time_ssm(configs.paper, pair.left, pair.right, repeats);
+  // The same through a wide-angle lens's model (barrel, as calibrate stereo finds on OpenCV's
+  // sample views): the retinas read the ideal image from the distorted one.
+  const double focal_px = 554.256 * pair.left.width_px / 640.0;
+  const perception::LensDistortion lens(
+      hal::CameraIntrinsics{pair.left.width_px, pair.left.height_px, focal_px, focal_px,
+                            0.5 * (pair.left.width_px - 1), 0.5 * (pair.left.height_px - 1)},
+      hal::PlumbBobDistortion{-0.28, 0.07, 0.001, -0.0005, 0.0});
+  figures.paper_lens =
+      time_ssm(configs.paper, pair.left, pair.right, repeats, Frames::kWarm, &lens);
   figures.paper_rgb = time_ssm(configs.paper, pair.left_rgb, pair.right_rgb, repeats);
   figures.fovea_only = time_ssm(configs.fovea_only, pair.left, pair.right, repeats);
   // Eviction takes milliseconds a run: fewer repeats.

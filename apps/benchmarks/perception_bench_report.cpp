@@ -38,6 +38,9 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
       {"repeats", figures.repeats},
       {"ssm_paper_us", as_printed(ssm.paper.total_us, "%.2f")},
       {"ssm_paper_rgb_us", as_printed(ssm.paper_rgb.total_us, "%.2f")},
+      {"ssm_paper_lens_us", as_printed(ssm.paper_lens.total_us, "%.2f")},
+      {"ssm_paper_lens_over_ssm_paper",
+       as_printed(ssm.paper_lens.total_us / ssm.paper.total_us, "%.2f")},
       {"ssm_fovea_only_us", as_printed(ssm.fovea_only.total_us, "%.2f")},
       {"ssm_paper_fresh_us", as_printed(ssm.paper_fresh.total_us, "%.2f")},
       {"ssm_paper_rgb_fresh_us", as_printed(ssm.paper_rgb_fresh.total_us, "%.2f")},
@@ -63,6 +66,7 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
        as_printed(figures.stereo_bm_us / ssm.paper.total_us, "%.1f")},
       {"ssm_paper_parts_us", parts_json(ssm.paper.parts)},
       {"ssm_paper_rgb_parts_us", parts_json(ssm.paper_rgb.parts)},
+      {"ssm_paper_lens_parts_us", parts_json(ssm.paper_lens.parts)},
       {"ssm_paper_fresh_parts_us", parts_json(ssm.paper_fresh.parts)},
       {"ssm_paper_rgb_fresh_parts_us", parts_json(ssm.paper_rgb_fresh.parts)},
       {"ssm_fovea_only_parts_us", parts_json(ssm.fovea_only.parts)},
@@ -96,6 +100,7 @@ void print_perception_bench_table(const PerceptionBenchFigures& figures) {
   std::printf("perception-bench: 640x480 stereo pair, one thread, medians per pair\n");
   print_ssm("SSM paper (grey)", ssm.paper);
   print_ssm("SSM paper (rgb8)", ssm.paper_rgb);
+  print_ssm("SSM paper through a lens", ssm.paper_lens);
   print_ssm("SSM fovea only (grey)", ssm.fovea_only);
   print_ssm("SSM paper, fresh frames", ssm.paper_fresh);
   print_ssm("SSM paper (rgb8), fresh", ssm.paper_rgb_fresh);

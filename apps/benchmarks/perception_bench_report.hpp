@@ -11,6 +11,7 @@ namespace cambio::app {
 struct SsmVariantFigures {
   SsmFigures paper;            ///< The paper's 4 x 16 x 16 retina, coarsest level widened; grey.
   SsmFigures paper_rgb;        ///< The same on rgb8 frames.
+  SsmFigures paper_lens;       ///< `paper` read through a barrel lens's model.
   SsmFigures fovea_only;       ///< The paper's retina without the field-covering level.
   SsmFigures paper_fresh;      ///< `paper` with the caches flushed before each run.
   SsmFigures paper_rgb_fresh;  ///< `paper_rgb` with the caches flushed before each run.

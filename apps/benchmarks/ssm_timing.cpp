@@ -50,11 +50,14 @@ perception::SsmTimings median_parts(const std::vector<perception::SsmTimings>& p
 
 }  // namespace
 
-SsmRun::SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right)
+SsmRun::SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right,
+               const perception::LensDistortion* lens)
     : servo_(config, left.width_px, left.height_px),
       frame_(servo_.make_frame()),
       left_(left),
-      right_(right) {}
+      right_(right) {
+  if (lens != nullptr) servo_.set_lenses(*lens, *lens);
+}
 
 const perception::SsmFrame& SsmRun::run() {
   const perception::PixelPoint centre{left_.width_px / 2, left_.height_px / 2};
@@ -66,8 +69,9 @@ const perception::SsmFrame& SsmRun::run() {
 }
 
 SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
-                    const hal::Image& right, int repeats, Frames frames) {
-  SsmRun ssm(config, left, right);
+                    const hal::Image& right, int repeats, Frames frames,
+                    const perception::LensDistortion* lens) {
+  SsmRun ssm(config, left, right, lens);
   // Every run's parts, the untimed warm-up runs' included.
   std::vector<perception::SsmTimings> parts;
   parts.reserve(static_cast<std::size_t>(repeats) * 2);

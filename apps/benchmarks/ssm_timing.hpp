@@ -21,7 +21,9 @@ struct SsmFigures {
 /// references to the images.
 class SsmRun {
  public:
-  SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right);
+  /// With a `lens`, both eyes' retinas read the pair through it (SensoryServo::set_lenses).
+  SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right,
+         const perception::LensDistortion* lens = nullptr);
   /// Throws std::runtime_error when the SSM rejects the pair.
   const perception::SsmFrame& run();
   const perception::SsmFrame& frame() const { return frame_; }
@@ -41,6 +43,7 @@ enum class Frames : std::uint8_t { kWarm, kFresh };
 /// The SSM's median over `repeats` runs on the pair; with Frames::kFresh the caches are evicted
 /// before each run (outside the timed span).
 SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
-                    const hal::Image& right, int repeats, Frames frames = Frames::kWarm);
+                    const hal::Image& right, int repeats, Frames frames = Frames::kWarm,
+                    const perception::LensDistortion* lens = nullptr);
 
 }  // namespace cambio::app

@@ -85,6 +85,12 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
 
 DisparityScan::~DisparityScan() = default;
 
+void DisparityScan::set_lenses(const LensDistortion& left, const LensDistortion& right) {
+  if (!enabled_) return;
+  strip_->set_lens(right);
+  left_context_->set_lens(left);
+}
+
 float DisparityScan::score(int tier, const float* left_level, int shift) const noexcept {
   // The left window at its level's centre against the strip's window `shift` samples to the
   // left of the strip's centre (x_right = x_left - d).

@@ -49,6 +49,13 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
 
 SensoryServo::~SensoryServo() = default;
 
+void SensoryServo::set_lenses(const LensDistortion& left, const LensDistortion& right) {
+  retinas_[0]->set_lens(left);
+  retinas_[1]->set_lens(right);
+  shifted_right_->set_lens(right);
+  scan_->set_lenses(left, right);
+}
+
 const float* SensoryServo::ShiftedRight::shifted_right_level(int k, int offset_px) noexcept {
   if (image_ == nullptr) return nullptr;
   const Retina& right = *servo_.retinas_[1];

@@ -30,6 +30,9 @@ void SsmServer::configure() {
   max_stamp_skew_ns_ = static_cast<std::int64_t>(0.5e9 / left.rate_hz);
   servo_ =
       std::make_unique<SensoryServo>(config_, left.intrinsics.width_px, left.intrinsics.height_px);
+  // Real lenses are not pinholes: the retinas read each camera's ideal image through its model.
+  servo_->set_lenses(LensDistortion(left.intrinsics, left.distortion),
+                     LensDistortion(right.intrinsics, right.distortion));
   frames_ = std::make_unique<hal::TripleBuffer<SsmFrame>>(servo_->make_frame());
 }
 

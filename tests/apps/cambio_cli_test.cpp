@@ -185,7 +185,7 @@ TEST(CambioCli, PerceptionBenchPrintsTheFiguresAsJson) {
   for (const char* key :
        {"ssm_paper_us", "ssm_paper_rgb_us", "ssm_fovea_only_us", "ssm_paper_over_memcpy",
         "ssm_64_us", "memcpy_us", "opencv_full_filter_us", "opencv_stereo_bm_us",
-        "ssm_paper_disparity_px"}) {
+        "ssm_paper_lens_us", "ssm_paper_disparity_px"}) {
     EXPECT_TRUE(figures[key].is_number()) << key << " in " << result.output;
   }
   EXPECT_GE(figures["ssm_paper_over_memcpy_rounds"].get<int>(), 10) << result.output;

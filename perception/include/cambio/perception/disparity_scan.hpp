@@ -84,6 +84,8 @@ class DisparityScan {
   static constexpr float kMinXStructure = 0.1f;
 
   bool enabled() const { return enabled_; }
+  /// The eyes' lenses for the strip (right) and the left context (SensoryServo::set_lenses).
+  void set_lenses(const LensDistortion& left, const LensDistortion& right);
   int level() const { return level_; }
 
   /// Scores the left retina's window at level() (`left`, the SSM's left feature maps) against

@@ -5,6 +5,7 @@
 
 #include "cambio/hal/image.hpp"
 #include "cambio/hal/status.hpp"
+#include "cambio/perception/lens_distortion.hpp"
 #include "cambio/perception/perception_config.hpp"
 
 namespace cambio::perception {
@@ -69,6 +70,12 @@ class Retina {
 
   static constexpr int kMaxLevels = 8;
 
+  /// Reads the camera's lens from now on (configure time: allocates each level's footprint
+  /// table): every sample is then the mean of the *ideal* (pinhole) image over its block, read
+  /// from the distorted image over the block's footprint there, so the levels, and all that is
+  /// computed from them, see the undistorted geometry. An identity lens reads pixels as they are.
+  void set_lens(const LensDistortion& lens);
+
   /// Builds all levels from a grey8 or rgb8 image. An rgb8 pixel is converted with
   /// hal::luma_bt601 where a level reads it, so the levels equal those of the image converted to
   /// grey8 first, without converting whole rows.
@@ -98,8 +105,15 @@ class Retina {
     int origin_x_px = 0;
     int origin_y_px = 0;
     float fraction_inside = 1.0f;
+    /// Through a lens: the distorted position of every block corner, (width + 2 apron + 1) x
+    /// (height + 2 apron + 1) pairs (x, y), for the scale and origin it was computed at.
+    std::vector<double> corners_px;
+    int corners_scale_px = 0;
+    int corners_origin_x_px = 0;
+    int corners_origin_y_px = 0;
   };
   void build_level(const hal::Image& image, Level& level) noexcept;
+  void build_level_through_lens(const hal::Image& image, Level& level) noexcept;
 
   RetinaConfig config_;
   int width_ = 0;
@@ -112,6 +126,7 @@ class Retina {
   /// (twice the lanes per vector add), 32 bits only for blocks of more rows.
   std::vector<std::uint16_t> column_sums16_;
   std::vector<std::uint32_t> column_sums_;
+  LensDistortion lens_;  ///< Identity unless set_lens() gave one.
 };
 
 }  // namespace cambio::perception

@@ -95,6 +95,10 @@ class SensoryServo {
   int moments_map() const { return moments_map_; }
   int image_width_px() const { return image_width_; }
   int image_height_px() const { return image_height_; }
+  /// The cameras' lenses (configure time: allocates): from now on every retina samples the
+  /// ideal (pinhole) image of its eye's camera, read from the distorted one (Retina::set_lens),
+  /// so the disparity, the motion and the servo that uses them see undistorted geometry.
+  void set_lenses(const LensDistortion& left, const LensDistortion& right);
   /// The last whole-range scan's hypotheses (searched false when the scan is off or failed).
   const DisparityScanResult& last_scan() const { return scan_result_; }
 
@@ -117,6 +121,7 @@ class SensoryServo {
       fixation_ = fixation;
     }
     const float* shifted_right_level(int k, int offset_px) noexcept override;
+    void set_lens(const LensDistortion& lens) { retina_->set_lens(lens); }
 
    private:
     const SensoryServo& servo_;

@@ -11,6 +11,7 @@
 
 #include "cambio/perception/lens_distortion.hpp"
 #include "cambio/perception/sensory_servo.hpp"
+#include "cambio/runtime/allocation_counter.hpp"
 
 namespace cambio::perception {
 namespace {
@@ -179,6 +180,15 @@ TEST(LensDistortion, TheSsmsDisparityThroughTheLensIsTheIdealPairs) {
     EXPECT_NEAR(ideal, kShift_px, 0.1);
     EXPECT_NEAR(through, ideal, 0.1) << fixation.x << ", " << fixation.y;
   }
+  // The loop side: reading through the lens allocates nothing, a new fixation included (its
+  // footprints are recomputed into the tables set_lenses() sized).
+  const std::uint64_t before = runtime::thread_allocation_count();
+  for (const PixelPoint fixation :
+       {PixelPoint{300, 200}, PixelPoint{300, 200}, PixelPoint{90, 400}}) {
+    ASSERT_EQ(lens_ssm.process(left, right, fixation, fixation, FeatureRequest{}, frame),
+              hal::Status::kOk);
+  }
+  EXPECT_EQ(runtime::thread_allocation_count() - before, 0u);
 }
 
 }  // namespace

@@ -54,6 +54,11 @@ SsmVariantFigures time_ssm_variants(const SsmConfigs& configs, const BenchStereo
       hal::PlumbBobDistortion{-0.28, 0.07, 0.001, -0.0005, 0.0});
   figures.paper_lens =
       time_ssm(configs.paper, pair.left, pair.right, repeats, Frames::kWarm, &lens);
+  // A new fixation every run: through a lens, every level's footprints are planned anew.
+  figures.paper_moving = time_ssm(configs.paper, pair.left, pair.right, repeats, Frames::kWarm,
+                                  nullptr, Fixations::kNewEveryRun);
+  figures.paper_lens_moving = time_ssm(configs.paper, pair.left, pair.right, repeats, Frames::kWarm,
+                                       &lens, Fixations::kNewEveryRun);
   figures.paper_rgb = time_ssm(configs.paper, pair.left_rgb, pair.right_rgb, repeats);
   figures.fovea_only = time_ssm(configs.fovea_only, pair.left, pair.right, repeats);
   // Eviction takes milliseconds a run: fewer repeats.

@@ -41,6 +41,10 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
       {"ssm_paper_lens_us", as_printed(ssm.paper_lens.total_us, "%.2f")},
       {"ssm_paper_lens_over_ssm_paper",
        as_printed(ssm.paper_lens.total_us / ssm.paper.total_us, "%.2f")},
+      {"ssm_paper_moving_us", as_printed(ssm.paper_moving.total_us, "%.2f")},
+      {"ssm_paper_lens_moving_us", as_printed(ssm.paper_lens_moving.total_us, "%.2f")},
+      {"ssm_paper_lens_moving_over_ssm_paper_moving",
+       as_printed(ssm.paper_lens_moving.total_us / ssm.paper_moving.total_us, "%.2f")},
       {"ssm_fovea_only_us", as_printed(ssm.fovea_only.total_us, "%.2f")},
       {"ssm_paper_fresh_us", as_printed(ssm.paper_fresh.total_us, "%.2f")},
       {"ssm_paper_rgb_fresh_us", as_printed(ssm.paper_rgb_fresh.total_us, "%.2f")},
@@ -67,6 +71,7 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
       {"ssm_paper_parts_us", parts_json(ssm.paper.parts)},
       {"ssm_paper_rgb_parts_us", parts_json(ssm.paper_rgb.parts)},
       {"ssm_paper_lens_parts_us", parts_json(ssm.paper_lens.parts)},
+      {"ssm_paper_lens_moving_parts_us", parts_json(ssm.paper_lens_moving.parts)},
       {"ssm_paper_fresh_parts_us", parts_json(ssm.paper_fresh.parts)},
       {"ssm_paper_rgb_fresh_parts_us", parts_json(ssm.paper_rgb_fresh.parts)},
       {"ssm_fovea_only_parts_us", parts_json(ssm.fovea_only.parts)},
@@ -101,6 +106,8 @@ void print_perception_bench_table(const PerceptionBenchFigures& figures) {
   print_ssm("SSM paper (grey)", ssm.paper);
   print_ssm("SSM paper (rgb8)", ssm.paper_rgb);
   print_ssm("SSM paper through a lens", ssm.paper_lens);
+  print_ssm("SSM paper, fovea moving", ssm.paper_moving);
+  print_ssm("SSM lens, fovea moving", ssm.paper_lens_moving);
   print_ssm("SSM fovea only (grey)", ssm.fovea_only);
   print_ssm("SSM paper, fresh frames", ssm.paper_fresh);
   print_ssm("SSM paper (rgb8), fresh", ssm.paper_rgb_fresh);

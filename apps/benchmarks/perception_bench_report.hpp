@@ -9,13 +9,15 @@ namespace cambio::app {
 
 /// The SSM variants measured, each on the benchmark pair.
 struct SsmVariantFigures {
-  SsmFigures paper;            ///< The paper's 4 x 16 x 16 retina, coarsest level widened; grey.
-  SsmFigures paper_rgb;        ///< The same on rgb8 frames.
-  SsmFigures paper_lens;       ///< `paper` read through a barrel lens's model.
-  SsmFigures fovea_only;       ///< The paper's retina without the field-covering level.
-  SsmFigures paper_fresh;      ///< `paper` with the caches flushed before each run.
-  SsmFigures paper_rgb_fresh;  ///< `paper_rgb` with the caches flushed before each run.
-  SsmFigures wide;             ///< 4 x 64 x 64, fovea only.
+  SsmFigures paper;              ///< The paper's 4 x 16 x 16 retina, coarsest level widened; grey.
+  SsmFigures paper_rgb;          ///< The same on rgb8 frames.
+  SsmFigures paper_lens;         ///< `paper` read through a barrel lens's model.
+  SsmFigures paper_moving;       ///< `paper` fixating a new place every run.
+  SsmFigures paper_lens_moving;  ///< `paper_lens` fixating a new place every run.
+  SsmFigures fovea_only;         ///< The paper's retina without the field-covering level.
+  SsmFigures paper_fresh;        ///< `paper` with the caches flushed before each run.
+  SsmFigures paper_rgb_fresh;    ///< `paper_rgb` with the caches flushed before each run.
+  SsmFigures wide;               ///< 4 x 64 x 64, fovea only.
 };
 
 /// A memcpy of both images (the memory bound) alternated with the paper's SSM in rounds.

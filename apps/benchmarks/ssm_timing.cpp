@@ -51,17 +51,25 @@ perception::SsmTimings median_parts(const std::vector<perception::SsmTimings>& p
 }  // namespace
 
 SsmRun::SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right,
-               const perception::LensDistortion* lens)
+               const perception::LensDistortion* lens, Fixations fixations)
     : servo_(config, left.width_px, left.height_px),
       frame_(servo_.make_frame()),
       left_(left),
-      right_(right) {
+      right_(right),
+      fixations_(fixations) {
   if (lens != nullptr) servo_.set_lenses(*lens, *lens);
 }
 
 const perception::SsmFrame& SsmRun::run() {
-  const perception::PixelPoint centre{left_.width_px / 2, left_.height_px / 2};
-  if (servo_.process(left_, right_, centre, centre, perception::FeatureRequest{}, frame_) !=
+  perception::PixelPoint fixation{left_.width_px / 2, left_.height_px / 2};
+  if (fixations_ == Fixations::kNewEveryRun) {
+    // Around the centre, never the same place twice in a row nor within a few runs.
+    constexpr int kPlaces = 7;
+    const int place = runs_++ % kPlaces;
+    fixation.x += (place - kPlaces / 2) * 9;
+    fixation.y += (place % 3 - 1) * 7;
+  }
+  if (servo_.process(left_, right_, fixation, fixation, perception::FeatureRequest{}, frame_) !=
       hal::Status::kOk) {
     throw std::runtime_error("SSM rejected the benchmark pair");
   }
@@ -70,8 +78,8 @@ const perception::SsmFrame& SsmRun::run() {
 
 SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
                     const hal::Image& right, int repeats, Frames frames,
-                    const perception::LensDistortion* lens) {
-  SsmRun ssm(config, left, right, lens);
+                    const perception::LensDistortion* lens, Fixations fixations) {
+  SsmRun ssm(config, left, right, lens, fixations);
   // Every run's parts, the untimed warm-up runs' included.
   std::vector<perception::SsmTimings> parts;
   parts.reserve(static_cast<std::size_t>(repeats) * 2);

@@ -17,13 +17,18 @@ struct SsmFigures {
   float confidence = 0;
 };
 
-/// One SSM and its output frame, processing the pair fixated at the image centre. Keeps
-/// references to the images.
+/// Where each run fixates: the image centre (as the robot's SSM does by default), or a new place
+/// every run (a behaviour moving the fovea around the image: through a lens, each place's
+/// footprints are planned anew).
+enum class Fixations : std::uint8_t { kCentre, kNewEveryRun };
+
+/// One SSM and its output frame, processing the pair. Keeps references to the images.
 class SsmRun {
  public:
   /// With a `lens`, both eyes' retinas read the pair through it (SensoryServo::set_lenses).
   SsmRun(const perception::SsmConfig& config, const hal::Image& left, const hal::Image& right,
-         const perception::LensDistortion* lens = nullptr);
+         const perception::LensDistortion* lens = nullptr,
+         Fixations fixations = Fixations::kCentre);
   /// Throws std::runtime_error when the SSM rejects the pair.
   const perception::SsmFrame& run();
   const perception::SsmFrame& frame() const { return frame_; }
@@ -33,6 +38,8 @@ class SsmRun {
   perception::SsmFrame frame_;
   const hal::Image& left_;
   const hal::Image& right_;
+  Fixations fixations_;
+  int runs_ = 0;
 };
 
 /// Warm: the pair stays in the caches from run to run. Fresh: every cache level is flushed
@@ -44,6 +51,7 @@ enum class Frames : std::uint8_t { kWarm, kFresh };
 /// before each run (outside the timed span).
 SsmFigures time_ssm(const perception::SsmConfig& config, const hal::Image& left,
                     const hal::Image& right, int repeats, Frames frames = Frames::kWarm,
-                    const perception::LensDistortion* lens = nullptr);
+                    const perception::LensDistortion* lens = nullptr,
+                    Fixations fixations = Fixations::kCentre);
 
 }  // namespace cambio::app

@@ -85,10 +85,11 @@ DisparityScan::DisparityScan(const DisparityConfig& disparity, const OperatorCon
 
 DisparityScan::~DisparityScan() = default;
 
-void DisparityScan::set_lenses(const LensDistortion& left, const LensDistortion& right) {
+void DisparityScan::set_lenses(std::shared_ptr<const LensCornerMap> left,
+                               std::shared_ptr<const LensCornerMap> right) {
   if (!enabled_) return;
-  strip_->set_lens(right);
-  left_context_->set_lens(left);
+  strip_->set_lens(std::move(right));
+  left_context_->set_lens(std::move(left));
 }
 
 float DisparityScan::score(int tier, const float* left_level, int shift) const noexcept {

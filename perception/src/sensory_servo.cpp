@@ -50,10 +50,17 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
 SensoryServo::~SensoryServo() = default;
 
 void SensoryServo::set_lenses(const LensDistortion& left, const LensDistortion& right) {
-  retinas_[0]->set_lens(left);
-  retinas_[1]->set_lens(right);
-  shifted_right_->set_lens(right);
-  scan_->set_lenses(left, right);
+  // One table of corners per eye, shared by every retina that reads that eye.
+  const auto map = [&](const LensDistortion& lens) -> std::shared_ptr<const LensCornerMap> {
+    if (lens.is_identity()) return nullptr;
+    return std::make_shared<const LensCornerMap>(lens, image_width_, image_height_);
+  };
+  const std::shared_ptr<const LensCornerMap> left_map = map(left);
+  const std::shared_ptr<const LensCornerMap> right_map = map(right);
+  retinas_[0]->set_lens(left_map);
+  retinas_[1]->set_lens(right_map);
+  shifted_right_->set_lens(right_map);
+  scan_->set_lenses(left_map, right_map);
 }
 
 const float* SensoryServo::ShiftedRight::shifted_right_level(int k, int offset_px) noexcept {

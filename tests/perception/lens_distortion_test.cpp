@@ -143,6 +143,64 @@ TEST(LensDistortion, TheRetinaReadsTheIdealImageThroughTheLens) {
   }
 }
 
+/// Every sample of two retinas' level k, apron included: the largest difference.
+double largest_difference(const Retina& a, const Retina& b, int k) {
+  const RetinaLevelView la = a.level(k);
+  const RetinaLevelView lb = b.level(k);
+  double largest = 0.0;
+  for (int y = -la.apron; y < la.height + la.apron; ++y) {
+    for (int x = -la.apron; x < la.width + la.apron; ++x) {
+      largest = std::max(largest, static_cast<double>(std::abs(la.interior[y * la.stride + x] -
+                                                               lb.interior[y * lb.stride + x])));
+    }
+  }
+  return largest;
+}
+
+// A lens that bends nothing measurable still takes the lens path (footprints planned, windows,
+// whole-pixel sums, the edges' prefix sums beyond the image): its blocks are then the plain
+// retina's blocks, whose means are exact block sums with the edge pixels replicated, so every
+// sample, apron and field-covering level included, must agree with the plain path's.
+TEST(LensDistortion, ANegligibleLensReadsExactlyWhatThePlainRetinaReads) {
+  const Texture texture(11);
+  const hal::Image grey = render(texture, 0.0, nullptr);
+  hal::Image rgb;
+  rgb.resize(kWidth, kHeight, hal::PixelFormat::kRgb8);
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const std::uint8_t v = grey.row(y)[x];
+      rgb.row(y)[3 * x] = v;
+      rgb.row(y)[3 * x + 1] = static_cast<std::uint8_t>(255 - v);
+      rgb.row(y)[3 * x + 2] = static_cast<std::uint8_t>(v / 2);
+    }
+  }
+  hal::PlumbBobDistortion negligible;
+  negligible.k1 = 1e-12;
+  RetinaConfig config;
+  config.coarsest_covers_field = true;
+  Retina plain(config, 12, kWidth, kHeight);
+  Retina through(config, 12, kWidth, kHeight);
+  through.set_lens(LensDistortion(intrinsics(), negligible));
+  for (const hal::Image* image : std::array<const hal::Image*, 2>{&grey, &rgb}) {
+    for (const PixelPoint fixation :
+         {PixelPoint{320, 240}, PixelPoint{5, 470}, PixelPoint{633, 3}, PixelPoint{200, 100}}) {
+      ASSERT_EQ(plain.build(*image, fixation), hal::Status::kOk);
+      ASSERT_EQ(through.build(*image, fixation), hal::Status::kOk);
+      for (int k = 0; k < config.levels; ++k) {
+        EXPECT_LT(largest_difference(plain, through, k), 2e-3)
+            << (image == &rgb ? "rgb" : "grey") << " level " << k << " at " << fixation.x << ", "
+            << fixation.y;
+        EXPECT_NEAR(plain.level(k).fraction_inside, through.level(k).fraction_inside, 1e-4);
+      }
+    }
+  }
+  // A lens model is for one image size: another is refused, not read with the wrong tables.
+  hal::Image smaller;
+  smaller.resize(320, 240, hal::PixelFormat::kGrey8);
+  EXPECT_EQ(through.build(smaller, PixelPoint{160, 120}), hal::Status::kRejected);
+  EXPECT_EQ(through.build_one_level(smaller, 0, PixelPoint{160, 120}), hal::Status::kRejected);
+}
+
 TEST(LensDistortion, TheSsmsDisparityThroughTheLensIsTheIdealPairs) {
   const Texture texture(7);
   const hal::PlumbBobDistortion left_lens = barrel();

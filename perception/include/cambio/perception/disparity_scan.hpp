@@ -85,7 +85,8 @@ class DisparityScan {
 
   bool enabled() const { return enabled_; }
   /// The eyes' lenses for the strip (right) and the left context (SensoryServo::set_lenses).
-  void set_lenses(const LensDistortion& left, const LensDistortion& right);
+  void set_lenses(std::shared_ptr<const LensCornerMap> left,
+                  std::shared_ptr<const LensCornerMap> right);
   int level() const { return level_; }
 
   /// Scores the left retina's window at level() (`left`, the SSM's left feature maps) against

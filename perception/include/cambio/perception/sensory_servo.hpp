@@ -121,7 +121,11 @@ class SensoryServo {
       fixation_ = fixation;
     }
     const float* shifted_right_level(int k, int offset_px) noexcept override;
-    void set_lens(const LensDistortion& lens) { retina_->set_lens(lens); }
+    /// The window moves to a few places a frame (one per shift range the search reaches).
+    void set_lens(std::shared_ptr<const LensCornerMap> lens) {
+      retina_->set_lens(std::move(lens), kPlacesPlanned);
+    }
+    static constexpr int kPlacesPlanned = 4;
 
    private:
     const SensoryServo& servo_;

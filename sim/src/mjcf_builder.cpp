@@ -15,10 +15,16 @@
 #include <Eigen/Geometry>
 
 #include "cambio/config/config_error.hpp"
+#include "sim_lens.hpp"
 
 namespace cambio::sim {
 
 namespace {
+
+hal::CameraIntrinsics intrinsics_of(const config::CameraConfig& camera) {
+  return {camera.width_px,   camera.height_px,      camera.focal_x_px,
+          camera.focal_y_px, camera.principal_x_px, camera.principal_y_px};
+}
 
 using config::CameraConfig;
 using config::JointConfig;
@@ -170,6 +176,13 @@ class Builder {
     for (const auto& camera : rig_.cameras) {
       width = std::max(width, camera.width_px);
       height = std::max(height, camera.height_px);
+      // A camera with a lens renders its ideal view over a wider window (SimLens).
+      if (camera.backend == "sim" && !camera.distortion.is_zero()) {
+        if (const auto window = SimLens::ideal_window(intrinsics_of(camera), camera.distortion)) {
+          width = std::max(width, window->width_px);
+          height = std::max(height, window->height_px);
+        }
+      }
     }
     width = std::max(width, 64);
     height = std::max(height, 64);
@@ -607,13 +620,14 @@ void check_cameras_representable(const RigConfig& rig) {
     // What the sim cannot render matters for the cameras it serves; a real camera beside it (a
     // calibrated V4L2 eye) keeps its own principal point and distortion.
     const bool rendered = camera.backend == "sim";
-    if (rendered && !camera.distortion.is_zero()) {
+    std::string why;
+    if (rendered && !camera.distortion.is_zero() &&
+        !SimLens::ideal_window(intrinsics_of(camera), camera.distortion, &why)) {
       issues.push_back({rig.source_file, 0, 0, path + ".distortion",
-                        "the simulator renders an ideal pinhole only: expected no distortion (or "
-                        "all zero) for a sim camera, found k1 " +
+                        "the simulator cannot render this lens: " + why + " (k1 " +
                             num(camera.distortion.k1) + ", k2 " + num(camera.distortion.k2) +
                             ", p1 " + num(camera.distortion.p1) + ", p2 " +
-                            num(camera.distortion.p2) + ", k3 " + num(camera.distortion.k3)});
+                            num(camera.distortion.p2) + ", k3 " + num(camera.distortion.k3) + ")"});
     }
     if (rendered && (std::abs(camera.principal_x_px - centre_x) > 1e-3 ||
                      std::abs(camera.principal_y_px - centre_y) > 1e-3)) {

@@ -35,10 +35,15 @@ SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer, Ca
       renderer_(renderer),
       frames_(frames),
       noise_(noise_std, seed),
-      foveation_(checked(foveation, info_)),
-      rgb_(static_cast<std::size_t>(info_.intrinsics.width_px / foveation_.periphery_downscale) *
-           static_cast<std::size_t>(info_.intrinsics.height_px / foveation_.periphery_downscale) *
-           3),
+      lens_(info_.distortion.is_zero() ? std::nullopt : std::make_optional<SimLens>(info_)),
+      // Through a lens every distorted pixel may read anywhere in the ideal window: whole frames.
+      foveation_(lens_ ? config::SimFoveationConfig{} : checked(foveation, info_)),
+      rgb_(lens_ ? lens_->ideal_bytes()
+                 : static_cast<std::size_t>(info_.intrinsics.width_px /
+                                            foveation_.periphery_downscale) *
+                       static_cast<std::size_t>(info_.intrinsics.height_px /
+                                                foveation_.periphery_downscale) *
+                       3),
       fovea_(foveation_.enabled() ? static_cast<std::size_t>(foveation_.fovea_px) *
                                         static_cast<std::size_t>(foveation_.fovea_px) * 3
                                   : 0) {
@@ -60,6 +65,8 @@ SimCamera::SimCamera(hal::CameraInfo info, int camera_id, Renderer& renderer, Ca
 bool SimCamera::render_views() noexcept {
   const int width = info_.intrinsics.width_px;
   const int height = info_.intrinsics.height_px;
+  if (lens_)
+    return renderer_.render(camera_id_, lens_->window(), ViewOptions{}, rgb_.data(), nullptr);
   if (!foveation_.enabled()) {
     return renderer_.render(camera_id_, width, height, ViewOptions{}, rgb_.data(), nullptr);
   }
@@ -112,7 +119,9 @@ hal::Status SimCamera::grab(hal::Image& out) {
     rendered_step_ = frame->step;
     stamp_ns = frame->stamp_ns;
   }
-  if (foveation_.enabled()) {
+  if (lens_) {
+    lens_->apply(rgb_.data(), out);
+  } else if (foveation_.enabled()) {
     compose_foveated(rgb_.data(), foveation_.periphery_downscale, fovea_.data(),
                      foveation_.fovea_px, out);
   } else {

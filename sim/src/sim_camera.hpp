@@ -9,6 +9,7 @@
 #include "cambio/sim/image_noise.hpp"
 #include "cambio/sim/renderer.hpp"
 #include "camera_frames.hpp"
+#include "sim_lens.hpp"
 
 namespace cambio::sim {
 
@@ -16,7 +17,8 @@ namespace cambio::sim {
 /// under a lease on the world's renderer, taken without waiting, then flips, converts (grey8 or
 /// rgb8) and adds the configured noise. Both eyes of a stereo pair grabbed in one camera-loop
 /// cycle see the same world snapshot, and every image is stamped with that snapshot's time.
-/// Optionally foveated (config::SimFoveationConfig).
+/// Optionally foveated (config::SimFoveationConfig). A camera whose rig entry has a lens
+/// distortion sees through it (SimLens: whole frames, never foveated).
 class SimCamera final : public hal::Camera {
  public:
   /// `foveation` (when enabled) renders a low-resolution field and a full-resolution fovea
@@ -45,9 +47,11 @@ class SimCamera final : public hal::Camera {
   ImageNoise noise_;
   bool render_views() noexcept;
 
+  std::optional<SimLens> lens_;  ///< Set when the camera's distortion is not zero.
   config::SimFoveationConfig foveation_;
-  std::vector<std::uint8_t> rgb_;    ///< The whole frame, or the periphery when foveated.
-  std::vector<std::uint8_t> fovea_;  ///< The fovea's window when foveated.
+  /// The whole frame (through a lens: the lens's ideal window), or the periphery when foveated.
+  std::vector<std::uint8_t> rgb_;
+  std::vector<std::uint8_t> fovea_;             ///< The fovea's window when foveated.
   std::optional<std::uint64_t> rendered_step_;  ///< Step of the snapshot last rendered.
   std::uint64_t sequence_ = 0;
 };

@@ -124,5 +124,38 @@ INSTANTIATE_TEST_SUITE_P(Experiments, GazeExperiment, ::testing::ValuesIn(cases(
                            return param_info.param.label;
                          });
 
+// Both eyes behind barrel lenses (a wide-angle USB camera's, the right one a little different):
+// the sim renders through them (SimLens) and the SSM reads through them (Retina::set_lens), so
+// the vergence experiment must end where the pinhole eyes end: the same verged pose to 0.05 deg,
+// the same disparity to 0.1 px, its goals met.
+TEST(GazeThroughLenses, VergesWhereThePinholeEyesVerge) {
+  const std::string lenses =
+      "--set 'rig.cameras.left_eye.distortion={k1: -0.28, k2: 0.07, p1: 0.001, p2: -0.0005, "
+      "k3: 0}' --set 'rig.cameras.right_eye.distortion={k1: -0.25, k2: 0.07, p1: 0.001, p2: "
+      "-0.0005, k3: 0}' ";
+  nlohmann::json summaries[2];
+  for (int through_lenses = 0; through_lenses < 2; ++through_lenses) {
+    const fs::path out = fs::temp_directory_path() /
+                         (through_lenses ? "cambio_gaze_through_lenses" : "cambio_gaze_pinhole");
+    fs::remove_all(out);
+    const auto result = testing::run_cambio(
+        "run firmware_config/experiments/vergence_sphere.yaml " +
+        (through_lenses ? lenses : std::string()) + "--out '" + out.string() + "'");
+    ASSERT_EQ(result.exit_code, 0) << result.output;
+    std::ifstream file(out / "summary.json");
+    summaries[through_lenses] = nlohmann::json::parse(file);
+  }
+  const auto degrees = [](const nlohmann::json& summary, const char* joint) {
+    return summary.at("final_joints").at(joint).at("true_rad").get<double>() * 180.0 /
+           std::numbers::pi;
+  };
+  for (const char* joint : {"left_eye_pan", "right_eye_pan", "eye_tilt"}) {
+    EXPECT_NEAR(degrees(summaries[1], joint), degrees(summaries[0], joint), 0.05) << joint;
+  }
+  EXPECT_NEAR(summaries[1].at("metrics").at("final_disparity_px").get<double>(),
+              summaries[0].at("metrics").at("final_disparity_px").get<double>(), 0.1);
+  EXPECT_EQ(summaries[1].at("passed"), true) << summaries[1].at("goals").dump();
+}
+
 }  // namespace
 }  // namespace cambio

@@ -130,19 +130,25 @@ TEST(RigErrorsTest, CameraWithOffCentrePrincipalPointIsRefusedAtConfigTime) {
   }
 }
 
-TEST(RigErrorsTest, ASimCameraWithLensDistortionIsRefusedARealOneBesideTheSimIsNot) {
+TEST(RigErrorsTest, ASimCameraWithALensItCannotRenderIsRefusedARealOneBesideTheSimIsNot) {
   auto rig = testing::load_shipped_rig();
+  // A plausible lens renders (SimLens); one that folds back inside the frame cannot.
   rig.cameras[0].distortion.k1 = -0.2;
+  {
+    hal::ManualClock clock;
+    EXPECT_NO_THROW(testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock));
+  }
+  rig.cameras[0].distortion.k1 = -2.2;
   try {
     hal::ManualClock clock;
     auto backend = testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock);
-    FAIL() << "accepted a distorted sim camera";
+    FAIL() << "accepted a sim camera whose lens folds over inside the image";
   } catch (const config::ConfigError& error) {
     const std::string message = error.what();
     EXPECT_NE(message.find("cameras.left_eye.distortion"), std::string::npos) << message;
-    EXPECT_NE(message.find("k1 -0.2"), std::string::npos) << message;
+    EXPECT_NE(message.find("k1 -2.2"), std::string::npos) << message;
   }
-  // A calibrated V4L2 eye (off-centre principal point, distortion) beside sim joints: the sim
+  // A calibrated V4L2 eye (off-centre principal point, that lens) beside sim joints: the sim
   // does not render it, so it takes it as it is.
   rig.cameras[0].backend = "v4l2";
   rig.cameras[0].principal_x_px += 7.25;

@@ -3,6 +3,7 @@
 // texture), the head moved through random poses by the drives' servo model (its noise on), each
 // view rendered by MuJoCo and saved with the encoders' readings. What the calibrations write must
 // be the rig's, which the sim rendered with: nothing here knows the truth but the rig file.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -20,6 +22,7 @@
 #include "cambio/config/hardware_description.hpp"
 #include "cambio/config/rig_loader.hpp"
 #include "cambio/config/shipped_config.hpp"
+#include "cambio/hal/lens_model.hpp"
 
 namespace cambio::testing {
 namespace {
@@ -27,7 +30,7 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 class SimCalibration : public ::testing::Test {
- protected:
+ public:
   void SetUp() override {
     directory_ = std::filesystem::temp_directory_path() /
                  ("cambio_sim_calibration_" + std::to_string(::getpid()) + "_" +
@@ -39,8 +42,10 @@ class SimCalibration : public ::testing::Test {
 
   /// A 10 x 7 board of 25 mm squares (9 x 6 inner corners) on a 30 cm square face at `xyz`,
   /// turned by `rpy_deg`; and an experiment on it that holds the head.
-  std::filesystem::path write_experiment(const std::string& xyz = "[0.80, 0.03, 1.42]",
-                                         const std::string& rpy_deg = "[0, 0, 0]") const {
+  std::filesystem::path write_experiment(
+      const std::string& xyz = "[0.80, 0.03, 1.42]", const std::string& rpy_deg = "[0, 0, 0]",
+      const std::string& rig = std::string(CAMBIO_SOURCE_DIR) +
+                               "/firmware_config/rigs/cambio.yaml") const {
     std::ofstream(directory_ / "board.scene.yaml")
         << "scene:\n  name: board\nworld:\n  floor: true\nobjects:\n"
            "  - name: board\n    shape: box\n    size_m: [0.01, 0.30, 0.30]\n"
@@ -50,8 +55,8 @@ class SimCalibration : public ::testing::Test {
            "    texture: {type: chessboard, squares: [10, 7], feature_size_m: 0.025, "
            "second_rgb: [0.05, 0.05, 0.05]}\n";
     const std::filesystem::path experiment = directory_ / "board.yaml";
-    std::ofstream(experiment) << "experiment:\n  name: board\n  rig: " << CAMBIO_SOURCE_DIR
-                              << "/firmware_config/rigs/cambio.yaml\n"
+    std::ofstream(experiment) << "experiment:\n  name: board\n  rig: " << rig
+                              << "\n"
                                  "  scene: board.scene.yaml\n  executor: lockstep\n"
                                  "  duration_s: 60\n  task: gaze\n"
                                  "  commands: [{at_s: 0, hold: {verge: false}}]\n";
@@ -129,48 +134,86 @@ Eigen::Isometry3d X_LR_at_zero(const config::RigConfig& rig) {
   return X_BL.inverse() * X_BR;
 }
 
-TEST_F(SimCalibration, StereoCaptureThenStereoCalibrationRecoversTheRigsCameras) {
-  // The board 0.7 m ahead between the eyes, turned 25 deg about the vertical and tipped 15 deg,
-  // seen as the neck alone turns (the eyes at zero, as calibrate stereo asks).
-  const std::filesystem::path experiment = write_experiment("[0.70, 0.0, 1.42]", "[0, 15, 25]");
+/// The largest distance (px) between where two lens models (each with `truth`'s intrinsics, so
+/// that a focal length or principal point error does not count twice) put the ideal pixels within
+/// `radius_px` of the image centre.
+double largest_lens_difference_px(const config::CameraConfig& truth,
+                                  const config::CameraConfig& got, double radius_px) {
+  const hal::CameraIntrinsics k{truth.width_px,   truth.height_px,      truth.focal_x_px,
+                                truth.focal_y_px, truth.principal_x_px, truth.principal_y_px};
+  double largest = 0.0;
+  for (int y = 0; y < truth.height_px; y += 8) {
+    for (int x = 0; x < truth.width_px; x += 8) {
+      if (std::hypot(x - k.principal_x_px, y - k.principal_y_px) > radius_px) continue;
+      double u_truth = 0.0;
+      double v_truth = 0.0;
+      double u_got = 0.0;
+      double v_got = 0.0;
+      hal::distort_px(k, truth.distortion, x, y, u_truth, v_truth);
+      hal::distort_px(k, got.distortion, x, y, u_got, v_got);
+      largest = std::max(largest, std::hypot(u_got - u_truth, v_got - v_truth));
+    }
+  }
+  return largest;
+}
+
+/// Captures `views` stereo views of the board with the neck alone turning up to `pan_deg` and
+/// `tilt_deg` either way (the eyes at zero, as calibrate stereo asks) on `rig_file`, calibrates,
+/// and checks what it wrote against the rig.
+void capture_and_calibrate_stereo(SimCalibration& test, const std::filesystem::path& directory,
+                                  const std::string& rig_file, int views = 16,
+                                  double pan_deg_max = 15.0, double tilt_deg_max = 10.0) {
+  // The board 0.7 m ahead between the eyes, turned 25 deg about the vertical and tipped 15 deg.
+  const std::filesystem::path experiment =
+      test.write_experiment("[0.70, 0.0, 1.42]", "[0, 15, 25]", rig_file);
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> pan_deg(-15.0, 15.0);
-  std::uniform_real_distribution<double> tilt_deg(-10.0, 10.0);
-  std::ofstream poses(directory_ / "poses.yaml");
+  std::uniform_real_distribution<double> pan_deg(-pan_deg_max, pan_deg_max);
+  std::uniform_real_distribution<double> tilt_deg(-tilt_deg_max, tilt_deg_max);
+  std::ofstream poses(directory / "poses.yaml");
   poses << "poses:\n";
-  for (int v = 0; v < 16; ++v) {
+  for (int v = 0; v < views; ++v) {
     poses << "  - {neck_pan: " << pan_deg(rng) << ", neck_tilt: " << tilt_deg(rng) << "}\n";
   }
   poses.close();
   CommandResult result =
       run_cambio("calibrate capture '" + experiment.string() + "' --poses '" +
-                 (directory_ / "poses.yaml").string() + "' --camera stereo --out '" +
-                 (directory_ / "views").string() + "'");
+                 (directory / "poses.yaml").string() + "' --camera stereo --out '" +
+                 (directory / "views").string() + "'");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  ASSERT_TRUE(std::filesystem::exists(directory_ / "views" / "left16.png")) << result.output;
-  ASSERT_TRUE(std::filesystem::exists(directory_ / "views" / "right16.png")) << result.output;
-  ASSERT_TRUE(std::filesystem::exists(directory_ / "views" / "pair16.yaml")) << result.output;
-  result = run_cambio("calibrate stereo --images '" + (directory_ / "views").string() +
+  const std::string last = std::to_string(views);
+  ASSERT_TRUE(std::filesystem::exists(directory / "views" / ("left" + last + ".png")))
+      << result.output;
+  ASSERT_TRUE(std::filesystem::exists(directory / "views" / ("right" + last + ".png")))
+      << result.output;
+  ASSERT_TRUE(std::filesystem::exists(directory / "views" / ("pair" + last + ".yaml")))
+      << result.output;
+  result = run_cambio("calibrate stereo --images '" + (directory / "views").string() +
                       "' --board 9x6 --square-mm 25 --rig cambio --out '" +
-                      (directory_ / "out").string() + "'");
+                      (directory / "out").string() + "'");
   std::cout << result.output;
   ASSERT_EQ(result.exit_code, 0) << result.output;
 
-  const std::string rig_file = std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/cambio.yaml";
   const config::RigConfig truth = config::load_rig(rig_file);
   const config::RigConfig calibrated = config::load_rig(
-      rig_file,
-      {{"camera_calibration", (directory_ / "out" / "camera_calibration.yaml").string()}});
+      rig_file, {{"camera_calibration", (directory / "out" / "camera_calibration.yaml").string()}});
   for (const char* name : {"left_eye", "right_eye"}) {
     const config::CameraConfig& want = *truth.find_camera(name);
     const config::CameraConfig& got = *calibrated.find_camera(name);
-    std::printf("%s: focal %.3f %.3f px (rig %.3f), principal point %.2f %.2f px (rig %.2f %.2f)\n",
-                name, got.focal_x_px, got.focal_y_px, want.focal_x_px, got.principal_x_px,
-                got.principal_y_px, want.principal_x_px, want.principal_y_px);
+    // Where the board's views reach (the circle the image's height spans), and the corners,
+    // which no view of the whole board reaches: there the fit extrapolates.
+    const double lens_px = largest_lens_difference_px(want, got, 0.5 * want.height_px);
+    const double corners_px = largest_lens_difference_px(want, got, 1e9);
+    std::printf(
+        "%s: focal %.3f %.3f px (rig %.3f), principal point %.2f %.2f px (rig %.2f %.2f), "
+        "k1 %.4f k2 %.4f (rig %.4f %.4f), lens at most %.3f px off (%.3f px to the corners)\n",
+        name, got.focal_x_px, got.focal_y_px, want.focal_x_px, got.principal_x_px,
+        got.principal_y_px, want.principal_x_px, want.principal_y_px, got.distortion.k1,
+        got.distortion.k2, want.distortion.k1, want.distortion.k2, lens_px, corners_px);
     EXPECT_NEAR(got.focal_x_px / want.focal_x_px, 1.0, 0.005) << name;
     EXPECT_NEAR(got.focal_y_px / want.focal_y_px, 1.0, 0.005) << name;
     EXPECT_NEAR(got.principal_x_px, want.principal_x_px, 1.0) << name;
     EXPECT_NEAR(got.principal_y_px, want.principal_y_px, 1.0) << name;
+    EXPECT_LT(lens_px, 0.5) << name;
   }
   const Eigen::Isometry3d want_X_LR = X_LR_at_zero(truth);
   const Eigen::Isometry3d got_X_LR = X_LR_at_zero(calibrated);
@@ -183,6 +226,36 @@ TEST_F(SimCalibration, StereoCaptureThenStereoCalibrationRecoversTheRigsCameras)
               rotation_deg);
   EXPECT_LT(std::abs(baseline_error_mm), 1.0);
   EXPECT_LT(rotation_deg, 0.1);
+}
+
+TEST_F(SimCalibration, StereoCaptureThenStereoCalibrationRecoversTheRigsCameras) {
+  capture_and_calibrate_stereo(
+      *this, directory_, std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/cambio.yaml");
+}
+
+// The same rig with a wide-angle lens on each eye (the sim renders through them): the
+// calibration must find those lenses, not a pinhole.
+TEST_F(SimCalibration, StereoCalibrationThroughLensesRecoversTheirDistortion) {
+  std::ifstream shipped(std::string(CAMBIO_SOURCE_DIR) + "/firmware_config/rigs/cambio.yaml");
+  std::stringstream text;
+  text << shipped.rdbuf();
+  std::string rig = text.str();
+  const std::string foveation = "    sim_foveation: {periphery_downscale: 4, fovea_px: 160}\n";
+  const std::array<std::string, 2> lenses = {
+      "    distortion: {k1: -0.28, k2: 0.07, p1: 0.001, p2: -0.0005, k3: 0}\n",
+      "    distortion: {k1: -0.25, k2: 0.06, p1: -0.0008, p2: 0.0004, k3: 0}\n"};
+  std::size_t at = 0;
+  for (const std::string& lens : lenses) {
+    at = rig.find(foveation, at);
+    ASSERT_NE(at, std::string::npos) << "the shipped rig's camera entries changed";
+    at += foveation.size();
+    rig.insert(at, lens);
+  }
+  const std::filesystem::path rig_file = directory_ / "cambio_with_lenses.yaml";
+  std::ofstream(rig_file) << rig;
+  // A lens is only measured where the board has been: the head turns further, so that the board
+  // reaches the image's edges, as a calibration of a real wide-angle camera must.
+  capture_and_calibrate_stereo(*this, directory_, rig_file.string(), 28, 24.0, 17.0);
 }
 
 }  // namespace

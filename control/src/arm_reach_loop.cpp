@@ -125,17 +125,7 @@ hal::Status ArmReachLoop::update(const hal::LoopTick& tick) noexcept {
     last_command_sequence_ = command.sequence;
     apply(command, now_ns);
   }
-  // A trajectory is 17 KB: copied only when the channel has a new one (an unwritten channel is
-  // at version 0), not every cycle.
-  std::uint64_t version = 0;
-  if (trajectories_ != nullptr && trajectories_->version() != trajectory_version_ &&
-      trajectories_->read(trajectory_, &version)) {
-    trajectory_version_ = version;
-    if (trajectory_.sequence != 0 && trajectory_.sequence != last_trajectory_sequence_) {
-      last_trajectory_sequence_ = trajectory_.sequence;
-      start_trajectory(now_ns);
-    }
-  }
+  if (trajectories_.take_new()) start_trajectory(now_ns);
   status_.joints_held = tracking == CommandTracking::Step::kFrozen;
   switch (tracking) {
     case CommandTracking::Step::kFollow:
@@ -306,7 +296,7 @@ void ArmReachLoop::start_trajectory(std::int64_t now_ns) noexcept {
                   "an arm joint does not follow its command (tracking fault): the arms hold");
     return;
   }
-  const JointTrajectory& trajectory = trajectory_;
+  const JointTrajectory& trajectory = trajectories_.latest();
   if (trajectory.joint_count < 1 || trajectory.joint_count > JointTrajectory::kMaxJoints ||
       trajectory.point_count < 1 || trajectory.point_count > JointTrajectory::kMaxPoints) {
     std::snprintf(status_.message.data(), status_.message.size(),

@@ -16,6 +16,7 @@
 #include "cambio/control/joint_frames.hpp"
 #include "cambio/control/joint_trajectory_follower.hpp"
 #include "cambio/control/kinematics.hpp"
+#include "cambio/control/trajectory_inbox.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/loop.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
@@ -117,7 +118,7 @@ class ArmReachLoop final : public hal::Loop {
   const ArmChain* arm(int side) const;
   /// The channel of joint trajectories for the arms (configure time; null: none).
   void set_trajectories(const hal::SeqlockChannel<JointTrajectory>* trajectories) {
-    trajectories_ = trajectories;
+    trajectories_.set_channel(trajectories);
   }
   /// Trajectories started, and those that reached their last point.
   const JointTrajectoryFollower& trajectory_follower() const { return follower_; }
@@ -207,10 +208,7 @@ class ArmReachLoop final : public hal::Loop {
   std::vector<double> q_believed_rig_;
   std::vector<double> q_believed_tree_;
   std::uint64_t last_command_sequence_ = 0;
-  const hal::SeqlockChannel<JointTrajectory>* trajectories_ = nullptr;
-  JointTrajectory trajectory_{};  // The newest read from trajectories_.
-  std::uint64_t last_trajectory_sequence_ = 0;
-  std::uint64_t trajectory_version_ = 0;  // The channel's version last read.
+  TrajectoryInbox trajectories_;
   JointTrajectoryFollower follower_;
   GazeStatus gaze_status_{};
   ArmStatus status_{};

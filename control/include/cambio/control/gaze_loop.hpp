@@ -19,6 +19,7 @@
 #include "cambio/control/kinematics.hpp"
 #include "cambio/control/pursuit_tracker.hpp"
 #include "cambio/control/saccade_profile.hpp"
+#include "cambio/control/trajectory_inbox.hpp"
 #include "cambio/control/vergence_controller.hpp"
 #include "cambio/hal/hardware_info.hpp"
 #include "cambio/hal/loop.hpp"
@@ -113,7 +114,7 @@ class GazeLoop final : public hal::Loop {
 
   /// The channel of joint trajectories for the head (configure time; null: none).
   void set_trajectories(const hal::SeqlockChannel<JointTrajectory>* trajectories) {
-    trajectories_ = trajectories;
+    trajectories_.set_channel(trajectories);
   }
   /// Trajectories started, and those that reached their last point.
   const JointTrajectoryFollower& trajectory_follower() const { return follower_; }
@@ -240,10 +241,7 @@ class GazeLoop final : public hal::Loop {
   const hal::SeqlockChannel<GazeCommand>& commands_;
   hal::SeqlockChannel<JointTargetFrame>& targets_;
   hal::SeqlockChannel<GazeStatus> status_channel_;
-  const hal::SeqlockChannel<JointTrajectory>* trajectories_ = nullptr;
-  JointTrajectory trajectory_{};  // The newest read from trajectories_.
-  std::uint64_t last_trajectory_sequence_ = 0;
-  std::uint64_t trajectory_version_ = 0;  // The channel's version last read.
+  TrajectoryInbox trajectories_;
   JointTrajectoryFollower follower_;
   const hal::SeqlockChannel<JointTargetFrame>* overlay_ = nullptr;
   std::vector<int> overlay_rig_indices_;

@@ -116,7 +116,7 @@ void TraceRecorder::render_key_frames(double time_s) {
       frame.time_s = time_s;
       frame.camera = *camera;
       try {
-        sources_.truth->render(*camera, 0, 0, sim::ViewOptions{}, frame.image, nullptr);
+        sources_.truth->render_as_seen(*camera, frame.image);
         trace_.key_frames.push_back(std::move(frame));
       } catch (const std::exception& error) {
         trace_.problems.push_back("key frame of '" + *camera + "' at " + std::to_string(time_s) +

@@ -10,6 +10,7 @@
 #include "cambio/sim/mjcf_builder.hpp"
 #include "cambio/sim/mujoco_error.hpp"
 #include "sim_camera.hpp"
+#include "sim_lens.hpp"
 
 namespace cambio::sim {
 
@@ -344,6 +345,39 @@ void GroundTruth::render(const std::string& camera_name, int width_px, int heigh
                   width_px, depth_m->data() + static_cast<std::size_t>(y) * width_px);
     }
   }
+}
+
+void GroundTruth::render_as_seen(const std::string& camera_name, hal::Image& rgb) {
+  const config::CameraConfig* camera = world_.rig().find_camera(camera_name);
+  if (camera == nullptr || camera->backend != "sim" || camera->distortion.is_zero()) {
+    render(camera_name, 0, 0, ViewOptions{}, rgb, nullptr);
+    return;
+  }
+  if (!renderer_provider_) throw std::logic_error("ground truth rendering needs the sim renderer");
+  std::shared_ptr<const SimLens>& lens = lenses_[camera_name];
+  if (!lens) {
+    hal::CameraInfo info;
+    info.name = camera_name;
+    info.intrinsics = {camera->width_px,   camera->height_px,      camera->focal_x_px,
+                       camera->focal_y_px, camera->principal_x_px, camera->principal_y_px};
+    info.distortion = camera->distortion;
+    lens = std::make_shared<const SimLens>(info);
+  }
+  Renderer& renderer = renderer_provider_();
+  rgb_bottom_up_.resize(lens->ideal_bytes());
+  refresh();
+  {
+    const Renderer::Lease lease(renderer, Renderer::Lease::Mode::kWait);
+    std::lock_guard<std::mutex> lock(mutex_);
+    renderer.set_state(current_);
+    if (!renderer.render(world_.camera_id(camera_name), lens->window(), ViewOptions{},
+                         rgb_bottom_up_.data(), nullptr)) {
+      throw MujocoError("MuJoCo could not render '" + camera_name + "'");
+    }
+    rgb.stamp_ns = current_.stamp_ns;
+  }
+  rgb.resize(camera->width_px, camera->height_px, hal::PixelFormat::kRgb8);
+  lens->apply(rgb_bottom_up_.data(), rgb);
 }
 
 }  // namespace cambio::sim

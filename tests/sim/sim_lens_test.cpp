@@ -89,6 +89,39 @@ TEST(SimLens, AMarkerAppearsWhereTheLensModelPutsIt) {
   }
 }
 
+double mean_difference(const hal::Image& a, const hal::Image& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    sum += std::abs(static_cast<int>(a.pixels[i]) - static_cast<int>(b.pixels[i]));
+  }
+  return sum / static_cast<double>(a.pixels.size());
+}
+
+// What a run's key frames show of a lens camera is what the camera grabbed, not the pinhole view.
+TEST(SimLens, GroundTruthRendersAsTheCameraSeesThroughItsLens) {
+  auto rig = testing::load_shipped_rig();
+  testing::make_ideal(rig);
+  for (auto& camera : rig.cameras) camera.distortion = barrel();
+  hal::ManualClock clock;
+  auto sim = testing::make_sim(rig, testing::load_shipped_scene("vergence"), clock);
+  sim->activate();
+  auto camera = sim->make_camera("left_eye");
+  const hal::CameraInfo& info = camera->info();
+  hal::Image grabbed(info.intrinsics.width_px, info.intrinsics.height_px, hal::PixelFormat::kRgb8);
+  ASSERT_EQ(camera->grab(grabbed), hal::Status::kOk);
+  hal::Image as_seen;
+  sim->ground_truth().render_as_seen("left_eye", as_seen);
+  hal::Image pinhole;
+  sim->ground_truth().render("left_eye", 0, 0, ViewOptions{}, pinhole, nullptr);
+  ASSERT_EQ(as_seen.width_px, grabbed.width_px);
+  ASSERT_EQ(as_seen.height_px, grabbed.height_px);
+  const double same = mean_difference(as_seen, grabbed);
+  const double lens = mean_difference(pinhole, grabbed);
+  std::printf("mean |render_as_seen - grab| %.3f, |pinhole - grab| %.3f grey levels\n", same, lens);
+  EXPECT_LT(same, 0.01);
+  EXPECT_GT(lens, 5.0) << "the test cannot tell the lens";
+}
+
 TEST(SimLens, ALensThatFoldsOverInsideTheImageIsRefused) {
   auto rig = testing::load_shipped_rig();
   rig.cameras.front().distortion.k1 = -2.5;  // Turns back on itself well inside the frame.

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -90,6 +91,11 @@ class GroundTruth {
   void render(const std::string& camera_name, int width_px, int height_px, const ViewOptions& view,
               hal::Image& rgb, std::vector<float>* depth_m);
 
+  /// What a rig camera's image shows of the newest state: render() at its intrinsics, through its
+  /// lens when its rig entry has one (as the camera renders, SimLens). For pictures of what an
+  /// eye saw (a run's key frames); metric uses take render()'s pinhole view.
+  void render_as_seen(const std::string& camera_name, hal::Image& rgb);
+
   /// Where render() gets the renderer (built on first use, so physics-only users need no GL).
   void set_renderer_provider(std::function<Renderer&()> provider) {
     renderer_provider_ = std::move(provider);
@@ -106,6 +112,7 @@ class GroundTruth {
   std::function<Renderer&()> renderer_provider_;
   std::vector<std::uint8_t> rgb_bottom_up_;
   std::vector<float> depth_bottom_up_;
+  std::map<std::string, std::shared_ptr<const class SimLens>> lenses_;  ///< By camera, on use.
 };
 
 }  // namespace cambio::sim

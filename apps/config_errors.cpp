@@ -38,4 +38,17 @@ std::optional<config::RigConfig> load_rig_or_report(
   }
 }
 
+std::optional<config::ExperimentConfig> load_experiment_or_report(
+    const std::string& path, const std::vector<std::string>& set_texts) {
+  const std::optional<std::vector<config::ConfigOverride>> overrides =
+      parse_overrides_or_report(set_texts);
+  if (!overrides) return std::nullopt;
+  try {
+    return config::load_experiment(path, *overrides);
+  } catch (const config::ConfigError& error) {
+    report_config_error(error);
+    return std::nullopt;
+  }
+}
+
 }  // namespace cambio::app

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cambio/config/experiment_config.hpp"
 #include "cambio/config/rig_loader.hpp"
 
 namespace cambio::app {
@@ -12,6 +13,13 @@ namespace cambio::app {
 /// stderr and returns nullopt, so the command exits with kExitBadInput.
 std::optional<config::RigConfig> load_rig_or_report(
     const std::string& path, const std::vector<config::ConfigOverride>& overrides);
+
+/// Loads an experiment with its command line's `--set KEY=VALUE` texts applied (experiment keys,
+/// or rig keys prefixed with rig.); on any problem, every malformed override or every issue of
+/// the files, prints them (as report_config_error) and returns nullopt, so the command exits with
+/// kExitBadInput.
+std::optional<config::ExperimentConfig> load_experiment_or_report(
+    const std::string& path, const std::vector<std::string>& set_texts);
 
 /// Parses every `--set KEY.PATH=VALUE`; when any is malformed, prints all their issues (as
 /// report_config_error) and returns nullopt, so the command exits with kExitBadInput.

@@ -2,6 +2,7 @@
 // loops running in the background (console_session.hpp carries out each line). The run is in
 // runs/console_run.hpp.
 #include <iostream>
+#include <optional>
 
 #include "argument_parser.hpp"
 #include "command.hpp"
@@ -9,24 +10,6 @@
 #include "console_run.hpp"
 
 namespace cambio::app {
-
-namespace {
-
-/// The experiment with the --set overrides into `experiment`; false (the issues printed) when it
-/// is invalid.
-bool load_experiment_or_report(const ArgumentParser& parser, config::ExperimentConfig& experiment) {
-  try {
-    std::vector<config::ConfigOverride> overrides;
-    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
-    experiment = config::load_experiment(*parser.positional_value("EXPERIMENT.yaml"), overrides);
-  } catch (const config::ConfigError& error) {
-    report_config_error(error);
-    return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 int run_console_command(std::span<const std::string> args) {
   ArgumentParser parser("console", "EXPERIMENT.yaml [--set KEY=VALUE]... [--rtf FACTOR]");
@@ -40,8 +23,10 @@ int run_console_command(std::span<const std::string> args) {
   // no leading blank).
   const double real_time_factor =
       parser.number("rtf", 1.0, config::Range::non_negative(), "simulated seconds per wall second");
-  config::ExperimentConfig experiment;
-  if (!load_experiment_or_report(parser, experiment)) return kExitBadInput;
+  std::optional<config::ExperimentConfig> loaded =
+      load_experiment_or_report(*parser.positional_value("EXPERIMENT.yaml"), parser.values("set"));
+  if (!loaded) return kExitBadInput;
+  config::ExperimentConfig& experiment = *loaded;
 
   // A behaviour decides what the robot does; typed commands would fight it for the gaze.
   if (experiment.behaviour) {

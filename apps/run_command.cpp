@@ -14,24 +14,6 @@
 
 namespace cambio::app {
 
-namespace {
-
-/// The experiment with the --set overrides into `experiment`; false (the issues printed) when it
-/// is invalid.
-bool load_experiment_or_report(const ArgumentParser& parser, config::ExperimentConfig& experiment) {
-  try {
-    std::vector<config::ConfigOverride> overrides;
-    for (const auto& text : parser.values("set")) overrides.push_back(config::parse_override(text));
-    experiment = config::load_experiment(*parser.positional_value("EXPERIMENT.yaml"), overrides);
-  } catch (const config::ConfigError& error) {
-    report_config_error(error);
-    return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 int run_run_command(std::span<const std::string> args) {
   ArgumentParser parser("run", "EXPERIMENT.yaml [--set KEY=VALUE]... [--out DIR]");
   parser.positional("EXPERIMENT.yaml", "the experiment to run (firmware_config/experiments/)")
@@ -49,8 +31,10 @@ int run_run_command(std::span<const std::string> args) {
   // never kill the program silently.
   const auto& stop = install_stop_signal_handlers();
 
-  config::ExperimentConfig experiment;
-  if (!load_experiment_or_report(parser, experiment)) return kExitBadInput;
+  std::optional<config::ExperimentConfig> loaded =
+      load_experiment_or_report(*parser.positional_value("EXPERIMENT.yaml"), parser.values("set"));
+  if (!loaded) return kExitBadInput;
+  config::ExperimentConfig& experiment = *loaded;
 
   // The destination is checked and claimed before any work: a bad --out fails at once.
   std::optional<OutputDirectory> out;

@@ -210,6 +210,21 @@ TEST(BadInputTest, TheRealTimeFactorIsADecimalNumberAsEveryOtherOption) {
   });
 }
 
+// Every malformed --set of `run` and `console` is named, not only the first (they stopped at the
+// first before), and nothing starts.
+TEST(BadInputTest, RunAndConsoleNameEveryMalformedOverride) {
+  for (const std::string command : {"run", "console"}) {
+    const auto result = run_cambio(command +
+                                   " firmware_config/experiments/vergence_sphere.yaml --set "
+                                   "nonsense --set 'alsobad' < /dev/null");
+    EXPECT_EQ(result.exit_code, 2) << command << "\n" << result.output;
+    EXPECT_NE(result.output.find("found \"nonsense\""), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("found \"alsobad\""), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("2 problems found; nothing was started."), std::string::npos)
+        << result.output;
+  }
+}
+
 // A CAMBIO_CONFIG_DIR that is no directory: before, render said "cannot read the file" without
 // naming it and perceive ran on built-in defaults without a word.
 TEST(BadInputTest, AConfigDirectoryThatIsNotThereIsNamed) {

@@ -13,10 +13,12 @@
 #include <utility>
 
 #include "geometry_msgs/msg/PointStamped.h"
-#include "rmw_dds_common/msg/ParticipantEntitiesInfo.h"
 
 #include "cambio/ros2/ros_time.hpp"
+#include "dds_entities.hpp"
 #include "diagnostic_msgs/msg/DiagnosticArray.h"
+#include "link_messages.hpp"
+#include "node_graph.hpp"
 #include "rosgraph_msgs/msg/Clock.h"
 #include "sensor_msgs/msg/CameraInfo.h"
 #include "sensor_msgs/msg/Image.h"
@@ -28,44 +30,14 @@
 namespace cambio::ros2 {
 namespace {
 
+using dds::checked;
+using dds::make_reader;
+using dds::make_writer;
+using dds::Qos;
+
 // More joints than any robot this stack drives; a bound keeps a message's size known.
 constexpr std::size_t kMaxJoints = 256;
 constexpr double kMaxRateHz = 1000.0;
-
-std::string dds_error(const std::string& what, dds_return_t code) {
-  return "ROS 2 bridge: cannot " + what + ": " + dds_strretcode(code);
-}
-
-dds_entity_t checked(dds_entity_t entity, const std::string& what) {
-  if (entity < 0) throw std::runtime_error(dds_error(what, entity));
-  return entity;
-}
-
-// QoS as ROS 2 uses it: reliable keep-last 10 volatile for state and commands, keep-last 100 for
-// /tf, keep-last 1 transient-local for /tf_static (late joiners get it); best-effort keep-last 5
-// for sensor data (rclcpp's SensorDataQoS).
-struct Qos {
-  Qos(dds_reliability_kind_t reliability, std::int32_t depth,
-      dds_durability_kind_t durability = DDS_DURABILITY_VOLATILE)
-      : qos(dds_create_qos()) {
-    dds_qset_reliability(qos, reliability, DDS_MSECS(100));
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
-    dds_qset_durability(qos, durability);
-  }
-  ~Qos() { dds_delete_qos(qos); }
-  Qos(const Qos&) = delete;
-  Qos& operator=(const Qos&) = delete;
-  dds_qos_t* qos;
-};
-
-// A topic and its writer under ROS 2's name for `ros_topic` (rmw_cyclonedds: "rt" + the name).
-dds_entity_t make_writer(dds_entity_t participant, const dds_topic_descriptor_t& type,
-                         const std::string& ros_topic, const Qos& qos) {
-  const std::string what = "create the writer of " + ros_topic;
-  const dds_entity_t topic = checked(
-      dds_create_topic(participant, &type, ("rt" + ros_topic).c_str(), qos.qos, nullptr), what);
-  return checked(dds_create_writer(participant, topic, qos.qos, nullptr), what);
-}
 
 void set_transform(geometry_msgs_msg_dds__Transform_& out, const FrameTransform& in) {
   out.translation = {in.translation_m[0], in.translation_m[1], in.translation_m[2]};
@@ -207,37 +179,21 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
   if (sources_.look_at) {
     dds_->refusals =
         make_writer(participant, std_msgs_msg_dds__String__desc, "/cambio/refusals", state);
-    const std::string what = "create the reader of /cambio/look_at";
-    const dds_entity_t topic =
-        checked(dds_create_topic(participant, &geometry_msgs_msg_dds__PointStamped__desc,
-                                 "rt/cambio/look_at", state.qos, nullptr),
-                what);
-    dds_->look_at = checked(dds_create_reader(participant, topic, state.qos, nullptr), what);
-    const std::string command_what = "create the reader of /cambio/command";
-    dds_->command = checked(
-        dds_create_reader(participant,
-                          checked(dds_create_topic(participant, &std_msgs_msg_dds__String__desc,
-                                                   "rt/cambio/command", state.qos, nullptr),
-                                  command_what),
-                          state.qos, nullptr),
-        command_what);
+    const std::string what = "create the command waitset";
+    dds_->look_at = make_reader(participant, geometry_msgs_msg_dds__PointStamped__desc,
+                                "/cambio/look_at", state);
+    dds_->command =
+        make_reader(participant, std_msgs_msg_dds__String__desc, "/cambio/command", state);
     if (sources_.joint_trajectory) {
-      const std::string trajectory_what = "create the reader of /cambio/joint_trajectory";
-      dds_->trajectory = checked(
-          dds_create_reader(
-              participant,
-              checked(dds_create_topic(participant, &trajectory_msgs_msg_dds__JointTrajectory__desc,
-                                       "rt/cambio/joint_trajectory", state.qos, nullptr),
-                      trajectory_what),
-              state.qos, nullptr),
-          trajectory_what);
+      dds_->trajectory = make_reader(participant, trajectory_msgs_msg_dds__JointTrajectory__desc,
+                                     "/cambio/joint_trajectory", state);
     }
     dds_->waitset = checked(dds_create_waitset(participant), what);
     dds_->stop_guard = checked(dds_create_guardcondition(participant), what);
     const dds_entity_t readable =
         checked(dds_create_readcondition(dds_->look_at, DDS_ANY_STATE), what);
     const dds_entity_t command_readable =
-        checked(dds_create_readcondition(dds_->command, DDS_ANY_STATE), command_what);
+        checked(dds_create_readcondition(dds_->command, DDS_ANY_STATE), what);
     if (dds_waitset_attach(dds_->waitset, readable, 0) != DDS_RETCODE_OK ||
         dds_waitset_attach(dds_->waitset, command_readable, 0) != DDS_RETCODE_OK ||
         dds_waitset_attach(dds_->waitset, dds_->stop_guard, 0) != DDS_RETCODE_OK ||
@@ -246,23 +202,8 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
              dds_->waitset,
              checked(dds_create_readcondition(dds_->trajectory, DDS_ANY_STATE), what),
              0) != DDS_RETCODE_OK)) {
-      throw std::runtime_error("ROS 2 bridge: cannot " + what);
+      throw std::runtime_error("ROS 2: cannot " + what);
     }
-  }
-  {
-    // rmw_cyclonedds' graph topic: its name has no "rt/" and its QoS keeps the newest for late
-    // joiners (rmw_context_impl_s::init).
-    const Qos graph(DDS_RELIABILITY_RELIABLE, 1, DDS_DURABILITY_TRANSIENT_LOCAL);
-    const std::string what = "create the writer of ros_discovery_info";
-    dds_->discovery =
-        checked(dds_create_writer(
-                    participant,
-                    checked(dds_create_topic(participant,
-                                             &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc,
-                                             "ros_discovery_info", graph.qos, nullptr),
-                            what),
-                    graph.qos, nullptr),
-                what);
   }
   for (std::string& name : sources_.joint_names) dds_->names.push_back(name.data());
   for (TfJoint& joint : sources_.tf_tree.joints) {
@@ -271,6 +212,7 @@ Ros2Bridge::Ros2Bridge(const BridgeSettings& settings, BridgeSources sources)
     transform.child_frame_id = joint.child_frame.data();
     dds_->joint_transforms.push_back(transform);
   }
+  publish_discovery_info();
 }
 
 Ros2Bridge::~Ros2Bridge() {
@@ -280,7 +222,6 @@ Ros2Bridge::~Ros2Bridge() {
 void Ros2Bridge::start() {
   if (started_) return;
   started_ = true;
-  publish_discovery_info();
   if (dds_->tf_static != 0) publish_tf_static();
   if (dds_->robot_description != 0) {
     const std_msgs_msg_dds__String_ urdf{sources_.robot_description.data()};
@@ -418,19 +359,8 @@ void Ros2Bridge::publish_images() {
 }
 
 void Ros2Bridge::publish_image(std::size_t eye, const hal::Image& image) {
-  const RosTime stamp = to_ros_time(image.stamp_ns, settings_.epoch_offset_ns);
-  sensor_msgs_msg_dds__Image_ message{};
-  message.header.stamp = {stamp.sec, stamp.nanosec};
-  message.header.frame_id = optical_frames_[eye].data();
-  message.height = static_cast<std::uint32_t>(image.height_px);
-  message.width = static_cast<std::uint32_t>(image.width_px);
-  message.encoding = const_cast<char*>(image.format == hal::PixelFormat::kRgb8 ? "rgb8" : "mono8");
-  message.is_bigendian = 0;
-  message.step = static_cast<std::uint32_t>(image.stride_bytes());
-  const auto size = static_cast<std::uint32_t>(image.pixels.size());
-  // Borrowed: the writer serializes before dds_write returns.
-  message.data =
-      dds_sequence_uint8{size, size, const_cast<std::uint8_t*>(image.pixels.data()), false};
+  const sensor_msgs_msg_dds__Image_ message = image_message(
+      image, optical_frames_[eye], to_ros_time(image.stamp_ns, settings_.epoch_offset_ns));
   if (!write(dds_->images[eye], &message, &images_sent_)) return;
   sensor_msgs_msg_dds__CameraInfo_& info = dds_->camera_info[eye];
   info.header.stamp = message.header.stamp;
@@ -493,39 +423,14 @@ void Ros2Bridge::publish_gaze() {
 }
 
 void Ros2Bridge::publish_discovery_info() {
-  // A GID is the entity's DDS GUID, zero-padded (rmw_cyclonedds' convert_guid_to_gid): what a
-  // peer's graph cache sees of the same entities through DDS's own discovery.
-  const auto gid_of = [](dds_entity_t entity) {
-    rmw_dds_common_msg_dds__Gid_ gid{};
-    dds_guid_t guid{};
-    if (entity > 0 && dds_get_guid(entity, &guid) == DDS_RETCODE_OK) {
-      static_assert(sizeof(guid.v) <= sizeof(gid.data));
-      std::memcpy(gid.data, guid.v, sizeof(guid.v));
-    }
-    return gid;
-  };
-  std::vector<rmw_dds_common_msg_dds__Gid_> writers;
-  std::vector<rmw_dds_common_msg_dds__Gid_> readers;
-  for (const dds_entity_t writer :
-       {dds_->joint_states, dds_->clock, dds_->tf, dds_->tf_static, dds_->images[0],
-        dds_->images[1], dds_->camera_infos[0], dds_->camera_infos[1], dds_->robot_description,
-        dds_->diagnostics, dds_->gaze_fixation, dds_->gaze_status, dds_->refusals}) {
-    if (writer > 0) writers.push_back(gid_of(writer));
-  }
-  for (const dds_entity_t reader : {dds_->look_at, dds_->command, dds_->trajectory}) {
-    if (reader > 0) readers.push_back(gid_of(reader));
-  }
-  rmw_dds_common_msg_dds__NodeEntitiesInfo_ node{};
-  std::snprintf(node.node_namespace, sizeof(node.node_namespace), "/");
-  std::snprintf(node.node_name, sizeof(node.node_name), "%s", settings_.node_name.c_str());
-  node.reader_gid_seq = {static_cast<std::uint32_t>(readers.size()),
-                         static_cast<std::uint32_t>(readers.size()), readers.data(), false};
-  node.writer_gid_seq = {static_cast<std::uint32_t>(writers.size()),
-                         static_cast<std::uint32_t>(writers.size()), writers.data(), false};
-  rmw_dds_common_msg_dds__ParticipantEntitiesInfo_ info{};
-  info.gid = gid_of(dds_->participant);
-  info.node_entities_info_seq = {1, 1, &node, false};
-  write(dds_->discovery, &info, nullptr);
+  bool written = false;
+  dds_->discovery = announce_node(
+      dds_->participant, settings_.node_name,
+      {dds_->joint_states, dds_->clock, dds_->tf, dds_->tf_static, dds_->images[0], dds_->images[1],
+       dds_->camera_infos[0], dds_->camera_infos[1], dds_->robot_description, dds_->diagnostics,
+       dds_->gaze_fixation, dds_->gaze_status, dds_->refusals},
+      {dds_->look_at, dds_->command, dds_->trajectory}, written);
+  if (!written) write_errors_.fetch_add(1, std::memory_order_relaxed);
 }
 
 void Ros2Bridge::serve_commands() {

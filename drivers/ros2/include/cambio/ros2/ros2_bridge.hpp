@@ -207,7 +207,7 @@ class Ros2Bridge {
   void publish_joint_states();
   void publish_tf(std::int64_t stamp_ns);
   void publish_tf_static();
-  /// The node and its endpoints on ros_discovery_info (once, at start: they never change).
+  /// The node and its endpoints on ros_discovery_info (once, when made: they never change).
   void publish_discovery_info();
   void publish_images();
   void publish_diagnostics();

@@ -28,4 +28,9 @@ constexpr RosTime to_ros_time(std::int64_t clock_ns, std::int64_t epoch_offset_n
   return {static_cast<std::int32_t>(ns / kNsPerS), static_cast<std::uint32_t>(ns % kNsPerS)};
 }
 
+/// ROS time back on the run's clock (ns): the inverse of to_ros_time within its range.
+constexpr std::int64_t from_ros_time(RosTime time, std::int64_t epoch_offset_ns = 0) {
+  return std::int64_t{time.sec} * 1'000'000'000 + std::int64_t{time.nanosec} - epoch_offset_ns;
+}
+
 }  // namespace cambio::ros2

@@ -19,6 +19,7 @@ int run_gaze_bench_command(std::span<const std::string> args);
 int run_eds_command(std::span<const std::string> args);
 int run_calibrate_command(std::span<const std::string> args);
 int run_export_command(std::span<const std::string> args);
+int run_node_command(std::span<const std::string> args);
 
 std::span<const Command> all_commands() {
   static const std::array kCommands = {
@@ -46,6 +47,8 @@ std::span<const Command> all_commands() {
               "camera's mount on its link",
               &run_calibrate_command},
       Command{"export", "the rig as a URDF for ROS tools (export urdf)", &run_export_command},
+      Command{"node", "the perception host of a run split across machines (node perception)",
+              &run_node_command},
       Command{"can-bench", "time the CANopen master and count the bus load (in-process bus)",
               &run_can_bench_command},
       Command{"gaze-bench", "score the gaze behaviour on generated scenes against the sim's truth",

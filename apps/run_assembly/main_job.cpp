@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cambio/config/hardware_description.hpp"
+#include "cambio/ros2/perception_link.hpp"
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/runtime/lockstep_executor.hpp"
 #include "cambio/runtime/realtime_executor.hpp"
@@ -37,15 +38,19 @@ bool uses_wall_clock_backend(const hal::HardwareInfo& hardware,
 }
 
 // Backends are deactivated (drives quick-stopped and disabled) however a run ends; the ROS 2
-// bridge publishes while they are active, its last message the state the run ended in.
+// bridge publishes while they are active, its last message the state the run ended in, and the
+// perception link carries pairs and results meanwhile.
 template <typename Backends>
 struct ActiveBackends {
-  ActiveBackends(Backends& all, ros2::Ros2Bridge* ros2_bridge)
-      : backends(all), bridge(ros2_bridge) {
+  ActiveBackends(Backends& all, ros2::Ros2Bridge* ros2_bridge,
+                 ros2::RobotPerceptionLink* perception_link)
+      : backends(all), bridge(ros2_bridge), link(perception_link) {
     for (auto& [name, backend] : backends) backend->activate();
     if (bridge != nullptr) bridge->start();
+    if (link != nullptr) link->start();
   }
   ~ActiveBackends() {
+    if (link != nullptr) link->stop();
     if (bridge != nullptr) bridge->stop();
     for (auto& [name, backend] : backends) backend->deactivate();
   }
@@ -53,6 +58,7 @@ struct ActiveBackends {
   ActiveBackends& operator=(const ActiveBackends&) = delete;
   Backends& backends;
   ros2::Ros2Bridge* bridge;
+  ros2::RobotPerceptionLink* link;
 };
 
 }  // namespace
@@ -77,6 +83,7 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
   build_backends(factory);
   build_loops();
   build_ros2_bridge();
+  build_perception_link();
 }
 
 MainJob::~MainJob() = default;
@@ -92,8 +99,9 @@ MainJobResult MainJob::run(const std::atomic<bool>& stop,
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
   std::int64_t done_ns = 0;
+  if (perception_link_) wait_for_perception_host();
   {
-    const ActiveBackends active(backends_, ros2_bridge_.get());
+    const ActiveBackends active(backends_, ros2_bridge_.get(), perception_link_.get());
     done_ns =
         executor_->run(stop, total_ns, [&](double done_s) { progress(done_s, wall_elapsed_s()); });
   }
@@ -114,7 +122,7 @@ MainJobResult MainJob::run_stepped(const std::atomic<bool>& stop,
   const auto wall_start = std::chrono::steady_clock::now();
   const std::int64_t start_ns = lockstep->clock().now_ns();
   {
-    const ActiveBackends active(backends_, ros2_bridge_.get());
+    const ActiveBackends active(backends_, ros2_bridge_.get(), perception_link_.get());
     lockstep->configure();
     // Loops are deactivated (drives stopped) even when the caller throws.
     struct Deactivate {

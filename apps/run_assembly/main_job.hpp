@@ -36,7 +36,8 @@
 
 namespace cambio::ros2 {
 class Ros2Bridge;
-}
+class RobotPerceptionLink;
+}  // namespace cambio::ros2
 
 namespace cambio::app {
 
@@ -123,8 +124,13 @@ class MainJob {
   const hal::HardwareInfo& hardware() const { return hardware_; }
   /// The simulator's ground truth; null when the rig has no sim backend.
   sim::GroundTruth* ground_truth();
-  /// The SSM loop; null when the rig has no stereo pair.
+  /// The SSM loop; null when the rig has no stereo pair or the SSM runs on another host
+  /// (`ros2.split: perception_remote`).
   perception::SsmServer* perception() { return perception_loop_.get(); }
+  /// The SSM's results and the requests for it, wherever it runs: the SsmServer's channels, or
+  /// the perception link's. Null when the rig has no stereo pair.
+  const hal::SeqlockChannel<perception::SsmSummary>* ssm_summaries() const;
+  hal::SeqlockChannel<perception::SsmRequest>* ssm_requests();
   /// The stereo pair's images for one more reader beside the SSM (the console's `capture`), or
   /// null when the rig has no pair or another reader (the ROS 2 bridge's images) has them. Call
   /// before run().
@@ -178,6 +184,9 @@ class MainJob {
   void build_actions();
   void build_behaviour(const perception::SsmConfig& ssm);
   void build_ros2_bridge();  // main_job_ros2.cpp
+  void build_perception_link();
+  /// Throws std::runtime_error (a device fault) when no perception host answers in time.
+  void wait_for_perception_host();
   void collect(MainJobResult& result);
   int joint_index(const std::string& joint_name) const;
   std::size_t camera_index(const std::string& camera_name) const;  // Rig order; throws if none.
@@ -224,6 +233,12 @@ class MainJob {
   std::unique_ptr<TraceRecorder> trace_;  // Evaluation: believed vs true, per cycle.
   std::unique_ptr<perception::CameraLoop> camera_loop_;
   std::unique_ptr<perception::SsmServer> perception_loop_;
+  // With `ros2.split: perception_remote` the SSM runs on another host: its request and result
+  // channels are these, carried by the link (main_job_ros2.cpp).
+  bool perception_remote_ = false;
+  hal::SeqlockChannel<perception::SsmSummary> remote_summaries_;
+  hal::SeqlockChannel<perception::SsmRequest> remote_requests_;
+  std::unique_ptr<ros2::RobotPerceptionLink> perception_link_;
 
   // The behaviour. The plugins are declared first so that they are closed last: the registry's
   // factories and the behaviour a plugin made hold its code.

@@ -23,13 +23,13 @@ void MainJob::build_control_loop(const control::JointTargetFrame& pose) {
 }
 
 void MainJob::build_gaze_loop(const control::JointTargetFrame& pose) {
-  if (!perception_loop_) throw std::runtime_error("the gaze task needs a stereo rig");
+  if (ssm_summaries() == nullptr) throw std::runtime_error("the gaze task needs a stereo rig");
   std::vector<control::BelievedJoints::Source> sources;
   for (const auto& slot : joint_loops_) sources.push_back({slot.states.get(), slot.rig_indices});
   auto loop = std::make_unique<control::GazeLoop>(
       hardware_, gaze_loop_params(experiment_, hardware_), pose,
-      control::BelievedJoints(sources, static_cast<int>(joint_order_.size())),
-      perception_loop_->summaries(), perception_loop_->requests(), gaze_commands_, targets_);
+      control::BelievedJoints(sources, static_cast<int>(joint_order_.size())), *ssm_summaries(),
+      *ssm_requests(), gaze_commands_, targets_);
   gaze_loop_ = loop.get();
   gaze_loop_->set_extra_features(&feature_requests_);
   gaze_loop_->set_trajectories(&head_trajectories_);

@@ -5,9 +5,8 @@
 #include <stdexcept>
 
 #include "cambio/control/joint_loop_plan.hpp"
-#include "cambio/perception/perception_config.hpp"
 #include "controller_params.hpp"
-#include "foveation_check.hpp"
+#include "stereo_ssm_config.hpp"
 
 // MainJob's loops and the order the executor is given them; the control loops (gaze, arms) are
 // built in main_job_control.cpp.
@@ -24,30 +23,6 @@ control::JointTargetFrame initial_pose(const hal::HardwareInfo& hardware,
         hal::CommandMode::kPosition, hardware.find_joint(joint_name)->initial_position_rad};
   }
   return pose;
-}
-
-// The SSM's settings for the stereo pair: the experiment's file (or the default one), a disparity
-// scan range from the pair's geometry when the file gives none, and a warning for each eye whose
-// foveation does not suit them.
-perception::SsmConfig stereo_ssm_config(const config::ExperimentConfig& experiment,
-                                        const hal::HardwareInfo& hardware,
-                                        const perception::StereoPairIndices& stereo) {
-  const std::string ssm_path = experiment.perception_path.empty()
-                                   ? perception::default_ssm_config_path()
-                                   : experiment.perception_path;
-  perception::SsmConfig ssm = perception::load_ssm_config(ssm_path, {});
-  if (!(ssm.disparity.scan_range_px > 0.0)) {
-    ssm.disparity.scan_range_px = perception::largest_disparity_px(
-        hardware.cameras[stereo.left].intrinsics.focal_x_px, hardware.stereo->baseline_m);
-  }
-  for (const std::size_t eye : {stereo.left, stereo.right}) {
-    const config::CameraConfig* camera = experiment.rig.find_camera(hardware.cameras[eye].name);
-    if (camera == nullptr) continue;
-    for (const std::string& warning : foveation_warnings(*camera, ssm)) {
-      std::cerr << "cambio: warning: " << warning << "\n";
-    }
-  }
-  return ssm;
 }
 
 }  // namespace
@@ -117,10 +92,12 @@ perception::SsmConfig MainJob::build_camera_and_perception_loops() {
   }
   camera_loop_ = std::make_unique<perception::CameraLoop>(cameras, stereo);
 
-  // Perception runs whenever the rig has a stereo pair.
+  // Perception runs whenever the rig has a stereo pair: here, or on the perception host.
   perception::SsmConfig ssm;
-  if (stereo) {
-    ssm = stereo_ssm_config(experiment_, hardware_, *stereo);
+  perception_remote_ = stereo && experiment_.ros2 &&
+                       experiment_.ros2->split == config::Ros2Config::Split::kPerceptionRemote;
+  if (stereo && !perception_remote_) {
+    ssm = stereo_ssm_config(experiment_, hardware_, stereo->left, stereo->right);
     perception_loop_ = std::make_unique<perception::SsmServer>(
         "perception", camera_loop_->stereo_frames(), hardware_.cameras[stereo->left],
         hardware_.cameras[stereo->right], ssm);

@@ -53,11 +53,12 @@ void MainJob::collect(MainJobResult& result) {
   if (gaze_loop_ != nullptr) result.tracking.push_back(gaze_loop_->tracking().report());
   if (arm_loop_) result.tracking.push_back(arm_loop_->tracking().report());
   if (pose_hold_ != nullptr) result.tracking.push_back(pose_hold_->tracking().report());
-  if (perception_loop_) {
-    result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
+  if (perception_loop_) result.mismatched_stereo_pairs = perception_loop_->mismatched_pairs();
+  if (const auto* summaries = ssm_summaries()) {
     perception::SsmSummary summary;
-    if (perception_loop_->summaries().read(summary)) result.perception = summary;
+    if (summaries->read(summary)) result.perception = summary;
   }
+  if (perception_link_) result.perception_link = perception_link_->counts();
   if (gaze_loop_ != nullptr) {
     control::GazeStatus status;
     if (gaze_loop_->status().read(status)) result.gaze = status;

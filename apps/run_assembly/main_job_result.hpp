@@ -11,6 +11,7 @@
 #include "cambio/control/command_tracking.hpp"
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/perception/ssm_server.hpp"
+#include "cambio/ros2/perception_link.hpp"
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/runtime/loop_statistics.hpp"
 #include "cambio/sim/egl_context.hpp"
@@ -66,7 +67,9 @@ struct MainJobResult {
   double simulated_s = 0.0;
   double wall_s = 0.0;
   std::optional<perception::SsmSummary> perception;  ///< The newest, if perception ran.
-  std::optional<control::GazeStatus> gaze;           ///< If the task was gaze: the last status.
+  /// With perception on another host: what crossed the link, and its outages.
+  std::optional<ros2::RobotPerceptionLinkCounts> perception_link;
+  std::optional<control::GazeStatus> gaze;  ///< If the task was gaze: the last status.
   std::uint64_t gaze_rejected_commands = 0;
   std::uint64_t gaze_corrections = 0;
   std::uint64_t gaze_measurements = 0;

@@ -1,7 +1,9 @@
 #include <time.h>
 
+#include <iostream>
 #include <memory>
 
+#include "cambio/ros2/perception_link.hpp"
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/ros2/urdf_export.hpp"
 #include "main_job.hpp"
@@ -94,7 +96,8 @@ void MainJob::build_ros2_bridge() {
   sources.tf_tree = ros2::make_tf_tree(hardware_, joint_order_);
   sources.joint_states = std::move(sampler);
   sources.robot_description = ros2::make_urdf(hardware_, experiment_.rig.name);
-  if (config.images_hz > 0.0 && hardware_.stereo) {
+  // On a split run the perception link sends every pair on the same topics.
+  if (config.images_hz > 0.0 && hardware_.stereo && !perception_remote_) {
     sources.stereo_images = claim_observed_stereo_frames();
     sources.stereo_cameras = {hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
                               hardware_.cameras[camera_index(hardware_.stereo->right_camera)]};
@@ -129,6 +132,48 @@ void MainJob::build_ros2_bridge() {
     sources.trajectory_max_joints = control::JointTrajectory::kMaxJoints;
   }
   ros2_bridge_ = std::make_unique<ros2::Ros2Bridge>(settings, std::move(sources));
+}
+
+void MainJob::build_perception_link() {
+  if (!perception_remote_) return;
+  const config::Ros2Config& config = *experiment_.ros2;
+  ros2::RobotPerceptionLinkSettings settings;
+  settings.domain_id = static_cast<std::uint32_t>(config.domain_id);
+  settings.epoch_offset_ns = clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC);
+  settings.link_timeout_s = config.link_timeout_s;
+  // A result older than the outage that defines a lost link is not worth servoing on.
+  settings.max_result_age_s = config.link_timeout_s;
+  const hal::Clock& clock = executor_->clock();
+  perception_link_ = std::make_unique<ros2::RobotPerceptionLink>(
+      settings, [&clock] { return clock.now_ns(); }, camera_loop_->stereo_frames(),
+      std::array<hal::CameraInfo, 2>{
+          hardware_.cameras[camera_index(hardware_.stereo->left_camera)],
+          hardware_.cameras[camera_index(hardware_.stereo->right_camera)]},
+      remote_requests_, remote_summaries_);
+}
+
+void MainJob::wait_for_perception_host() {
+  const config::Ros2Config& config = *experiment_.ros2;
+  std::cerr << "cambio run: waiting up to " << config.host_wait_s
+            << " s for the perception host (cambio node perception) on ROS 2 domain "
+            << config.domain_id << "\n";
+  if (!perception_link_->wait_for_host(config.host_wait_s)) {
+    throw std::runtime_error(
+        "no perception host answered on ROS 2 domain " + std::to_string(config.domain_id) +
+        " within " + std::to_string(config.host_wait_s) +
+        " s (ros2.host_wait_s): start `cambio node perception " + experiment_.source_file +
+        "` on the perception host, on the same domain and network (CYCLONEDDS_URI)");
+  }
+}
+
+const hal::SeqlockChannel<perception::SsmSummary>* MainJob::ssm_summaries() const {
+  if (perception_remote_) return &remote_summaries_;
+  return perception_loop_ ? &perception_loop_->summaries() : nullptr;
+}
+
+hal::SeqlockChannel<perception::SsmRequest>* MainJob::ssm_requests() {
+  if (perception_remote_) return &remote_requests_;
+  return perception_loop_ ? &perception_loop_->requests() : nullptr;
 }
 
 hal::TripleBuffer<hal::StereoFrame>* MainJob::claim_observed_stereo_frames() {

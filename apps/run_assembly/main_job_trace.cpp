@@ -13,7 +13,8 @@ namespace cambio::app {
 void MainJob::build_trace() {
   // The trace needs the world's ground truth (a simulator's) and something to look with.
   sim::GroundTruth* truth = ground_truth();
-  if (!options_.record_trace || truth == nullptr || !hardware_.stereo || !perception_loop_) return;
+  if (!options_.record_trace || truth == nullptr || !hardware_.stereo || ssm_summaries() == nullptr)
+    return;
   hal::Eye dominant = hal::Eye::kLeft;
   if (experiment_.task == config::ControlTask::kGaze) dominant = experiment_.gaze.dominant_eye;
   const auto camera_of = [&](hal::Eye eye) -> const hal::CameraInfo& {
@@ -26,7 +27,7 @@ void MainJob::build_trace() {
   for (const auto& slot : joint_loops_)
     sources.believed.push_back({slot.states.get(), slot.rig_indices});
   sources.gaze = gaze_loop_ != nullptr ? &gaze_loop_->status() : nullptr;
-  sources.ssm = &perception_loop_->summaries();
+  sources.ssm = ssm_summaries();
   sources.truth = truth;
   sources.dominant_camera = camera_of(dominant).name;
   sources.verging_camera = camera_of(hal::other(dominant)).name;

@@ -42,6 +42,20 @@ void print_device_counts(const MainJobResult& result) {
               << c.commands_refused << " refused" << (c.write_errors > 0 ? ", WRITE ERRORS: " : "")
               << (c.write_errors > 0 ? std::to_string(c.write_errors) : "") << "\n";
   }
+  if (result.perception_link) {
+    const ros2::RobotPerceptionLinkCounts& c = *result.perception_link;
+    std::cout << "perception link: " << c.pairs_sent << " pairs sent, " << c.results_used
+              << " results used of " << c.results_received << " (" << c.results_stale << " stale, "
+              << c.results_malformed << " malformed), exposure to result " << c.latency_median_ms
+              << " ms median, " << c.latency_max_ms << " ms at most, " << c.outages.size()
+              << " outage(s)\n";
+    for (const ros2::LinkOutage& outage : c.outages) {
+      std::cout << "  outage: no results from " << outage.lost_s << " s"
+                << (outage.back_s >= 0.0 ? " to " + std::to_string(outage.back_s) + " s"
+                                         : " to the end of the run")
+                << "\n";
+    }
+  }
   if (result.fault_latched_at_end) {
     std::cout << "joint loop: a drive fault is latched; the joints hold until a fault reset\n";
   }

@@ -182,6 +182,26 @@ void add_execution_fields(Json& json, const MainJobResult& result) {
                     {"commands_refused", c.commands_refused},
                     {"write_errors", c.write_errors}};
   }
+  if (result.perception_link) {
+    const ros2::RobotPerceptionLinkCounts& c = *result.perception_link;
+    Json outages = Json::array();
+    for (const ros2::LinkOutage& outage : c.outages) {
+      // back_s null: the link was still down when the run ended.
+      outages.push_back({{"lost_s", outage.lost_s},
+                         {"back_s", outage.back_s >= 0.0 ? Json(outage.back_s) : Json(nullptr)}});
+    }
+    json["perception_link"] = {{"pairs_sent", c.pairs_sent},
+                               {"requests_sent", c.requests_sent},
+                               {"results_received", c.results_received},
+                               {"results_used", c.results_used},
+                               {"results_stale", c.results_stale},
+                               {"results_malformed", c.results_malformed},
+                               {"last_malformed", c.last_malformed},
+                               {"write_errors", c.write_errors},
+                               {"latency_median_ms", c.latency_median_ms},
+                               {"latency_max_ms", c.latency_max_ms},
+                               {"outages", std::move(outages)}};
+  }
   if (result.renderer) {
     add_renderer_fields(json["renderer"], *result.renderer);
   } else {

@@ -113,6 +113,14 @@ void read_ros2(MapReader& experiment, ExperimentConfig& config) {
         section->number_or("diagnostics_hz", ros2.diagnostics_hz, Range::closed(0.0, 1000.0));
     ros2.gaze_hz = section->number_or("gaze_hz", ros2.gaze_hz, Range::closed(0.0, 1000.0));
     ros2.commands = section->boolean_or("commands", ros2.commands);
+    ros2.split =
+        section->choice_or("split", {"none", "perception_remote"}, "none") == "perception_remote"
+            ? Ros2Config::Split::kPerceptionRemote
+            : Ros2Config::Split::kNone;
+    ros2.link_timeout_s =
+        section->number_or("link_timeout_s", ros2.link_timeout_s, Range::closed(0.05, 10.0));
+    ros2.host_wait_s =
+        section->number_or("host_wait_s", ros2.host_wait_s, Range::closed(0.0, 600.0));
     section->finish();
   }
 }
@@ -127,6 +135,26 @@ void check_ros2_commands(MapReader& experiment, const ExperimentConfig& config) 
     experiment.error("ros2",
                      "commands: true takes the gaze loop's commands from ROS 2; this experiment's "
                      "behaviour sends its own: keep one");
+  }
+}
+
+/// Perception on another host: the run must wait for it in wall time, and only the SSM's
+/// summaries cross the network (a behaviour reads its feature maps too).
+void check_ros2_split(MapReader& experiment, const ExperimentConfig& config) {
+  if (!config.ros2 || config.ros2->split != Ros2Config::Split::kPerceptionRemote) return;
+  if (config.executor != ExecutorKind::kRealtime) {
+    experiment.error("ros2",
+                     "split: perception_remote needs executor: realtime (a lockstep run "
+                     "keeps simulated time and cannot wait for another host)");
+  }
+  if (config.task != ControlTask::kGaze) {
+    experiment.error("ros2",
+                     "split: perception_remote needs task gaze (the gaze loop is what "
+                     "uses the perception host's results)");
+  } else if (config.behaviour) {
+    experiment.error("ros2",
+                     "split: perception_remote cannot host a behaviour here: it reads "
+                     "the SSM's feature maps, which stay on the perception host");
   }
 }
 
@@ -270,6 +298,7 @@ ExperimentConfig read_experiment(ConfigDocument& document, const std::string& pa
   std::vector<PendingPixelTarget> pixel_targets;
   read_task_sections(experiment, resolve, scene, pixel_targets, config);
   check_ros2_commands(experiment, config);
+  check_ros2_split(experiment, config);
   if (auto evaluation = experiment.optional_map("evaluation")) {
     config.evaluation = read_evaluation(std::move(*evaluation), config.duration_s, scene);
   }

@@ -50,6 +50,16 @@ struct Ros2Config {
   /// Take gaze commands from ROS 2 (/cambio/look_at): the gaze task with no `commands` and no
   /// `behaviour` (the gaze loop takes one writer).
   bool commands = false;
+  /// Where the stack is split across machines: kNone runs it all here; kPerceptionRemote sends
+  /// the stereo pairs to a perception host (`cambio node perception`) and takes its SSM results
+  /// back (realtime executor only: a lockstep run cannot wait for another host).
+  enum class Split { kNone, kPerceptionRemote };
+  Split split = Split::kNone;
+  /// kPerceptionRemote: no result for this long while pairs go out is a lost link (reported;
+  /// the gaze holds until results come again).
+  double link_timeout_s = 0.3;
+  /// kPerceptionRemote: how long the run waits, before it starts, for the perception host.
+  double host_wait_s = 10.0;
 };
 
 /// One run of the main job (experiments/*.yaml): which rig in which scene, how long, how timed.

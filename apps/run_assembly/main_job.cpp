@@ -82,8 +82,8 @@ MainJob::MainJob(const config::ExperimentConfig& experiment, const hal::BackendF
   }
   build_backends(factory);
   build_loops();
+  build_perception_link();  // Before the bridge: its /diagnostics report the link.
   build_ros2_bridge();
-  build_perception_link();
 }
 
 MainJob::~MainJob() = default;

@@ -114,6 +114,7 @@ void MainJob::build_ros2_bridge() {
         inputs.joint_groups.push_back(group.name);
     }
     inputs.can_groups = offers_.all<const canopen::CanJointGroup>();
+    inputs.perception_link = perception_link_.get();
     sources.diagnostics = make_diagnostics_sampler(std::move(inputs));
   }
   if (gaze_loop_ != nullptr && config.gaze_hz > 0.0) {

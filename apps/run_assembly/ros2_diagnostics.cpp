@@ -140,6 +140,26 @@ Entry joint_loop_entry(const control::JointLoop& loop, const control::JointState
   return entry;
 }
 
+Entry perception_link_entry(const ros2::RobotPerceptionLink& link) {
+  const ros2::RobotPerceptionLinkCounts c = link.counts();
+  const bool lost = !c.outages.empty() && c.outages.back().back_s < 0.0;
+  Entry entry;
+  entry.name = "cambio: perception link";
+  entry.hardware_id = "cambio";
+  entry.level = lost ? Level::kError : Level::kOk;
+  entry.message = lost ? "lost at " + number(c.outages.back().lost_s, "%.2f") +
+                             " s: no results from the perception host; the gaze holds"
+                       : number(c.latency_median_ms, "%.1f") + " ms from exposure to result";
+  entry.values = {{"pairs_sent", count(c.pairs_sent)},
+                  {"results_used", count(c.results_used)},
+                  {"results_stale", count(c.results_stale)},
+                  {"results_malformed", count(c.results_malformed)},
+                  {"outages", count(c.outages.size())},
+                  {"latency_median_ms", number(c.latency_median_ms, "%.2f")},
+                  {"latency_max_ms", number(c.latency_max_ms, "%.2f")}};
+  return entry;
+}
+
 }  // namespace
 
 ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs) {
@@ -199,6 +219,8 @@ ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs) {
       }
     }
     for (Entry& entry : can_entries) entries.push_back(std::move(entry));
+    if (in.perception_link != nullptr)
+      entries.push_back(perception_link_entry(*in.perception_link));
     return true;
   };
 }

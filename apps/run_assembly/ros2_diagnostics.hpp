@@ -13,6 +13,7 @@
 #include "cambio/control/gaze_loop.hpp"
 #include "cambio/control/joint_loop.hpp"
 #include "cambio/hal/seqlock_channel.hpp"
+#include "cambio/ros2/perception_link.hpp"
 #include "cambio/ros2/ros2_bridge.hpp"
 #include "cambio/runtime/executor.hpp"
 
@@ -29,9 +30,12 @@ struct DiagnosticsInputs {
   std::vector<std::string> joint_names;   ///< Rig order.
   std::vector<std::string> joint_groups;  ///< Each rig joint's group.
   std::vector<const canopen::CanJointGroup*> can_groups;
+  /// With perception on another host: the link's state (ERROR while it is lost).
+  const ros2::RobotPerceptionLink* perception_link = nullptr;
 };
 
-/// /diagnostics: one status per loop, per joint loop's hold, per drive, per CAN group.
+/// /diagnostics: one status per loop, per joint loop's hold, per drive, per CAN group, and the
+/// perception link when there is one.
 ros2::DiagnosticsSampler make_diagnostics_sampler(DiagnosticsInputs inputs);
 
 /// /cambio/gaze/fixation and /cambio/gaze/status from the gaze loop's status channel.

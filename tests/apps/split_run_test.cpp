@@ -1,3 +1,4 @@
+#include <dds/dds.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "diagnostic_msgs/msg/DiagnosticArray.h"
 #include "run_cambio.hpp"
 
 // The stack split across two processes and across two network namespaces: `cambio run` with
@@ -95,19 +97,71 @@ class SplitRun : public ::testing::Test {
   int domain_ = 0;
 };
 
+// The link's state as /diagnostics says it, read by a ROS 2 peer (this process) while it runs.
+struct LinkDiagnostics {
+  bool seen = false;
+  std::uint8_t level = 255;
+  std::map<std::string, std::string> values;
+};
+
+LinkDiagnostics read_link_diagnostics(int domain, const std::atomic<bool>& done) {
+  LinkDiagnostics found;
+  const dds_entity_t participant =
+      dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 10);
+  const dds_entity_t topic = dds_create_topic(
+      participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics", qos, nullptr);
+  const dds_entity_t reader = dds_create_reader(participant, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  while (!done.load()) {
+    void* samples[1] = {};
+    dds_sample_info_t info;
+    while (dds_take(reader, samples, &info, 1, 1) > 0) {
+      const auto& array =
+          *static_cast<const diagnostic_msgs_msg_dds__DiagnosticArray_*>(samples[0]);
+      for (std::uint32_t k = 0; info.valid_data && k < array.status._length; ++k) {
+        const diagnostic_msgs_msg_dds__DiagnosticStatus_& status = array.status._buffer[k];
+        if (std::string(status.name) != "cambio: perception link") continue;
+        found.seen = true;
+        found.level = status.level;
+        for (std::uint32_t v = 0; v < status.values._length; ++v) {
+          found.values[status.values._buffer[v].key] = status.values._buffer[v].value;
+        }
+      }
+      dds_return_loan(reader, samples, 1);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  dds_delete(participant);
+  return found;
+}
+
 TEST_F(SplitRun, VergesWithTheSsmInAnotherProcess) {
-  const std::string uri = "CYCLONEDDS_URI=file://" + std::string(CAMBIO_SOURCE_DIR) +
-                          "/firmware_config/ros2/cyclonedds_localhost.xml ";
+  // The run, the node and this process's reader on loopback.
+  const std::string localhost =
+      std::string("file://") + CAMBIO_SOURCE_DIR + "/firmware_config/ros2/cyclonedds_localhost.xml";
+  setenv("CYCLONEDDS_URI", localhost.c_str(), 1);
+  const std::string uri = "CYCLONEDDS_URI=" + localhost + " ";
   const std::string node_pid =
       start_background(uri + "exec '" + kCambio + "' node perception '" + kExperiment +
                            "' --domain " + std::to_string(domain_),
                        out_ / "node.log");
-  const testing::CommandResult run =
-      run_shell(uri + "'" + kCambio + "' run '" + kExperiment + "'" +
-                split_overrides(domain_, 2.0) + " --out '" + (out_ / "run").string() + "' 2>&1");
+  std::atomic<bool> run_done{false};
+  auto diagnostics =
+      std::async(std::launch::async, [&] { return read_link_diagnostics(domain_, run_done); });
+  const testing::CommandResult run = run_shell(
+      uri + "'" + kCambio + "' run '" + kExperiment + "'" + split_overrides(domain_, 2.0) +
+      " --set experiment.ros2.diagnostics_hz=4 --out '" + (out_ / "run").string() + "' 2>&1");
+  run_done = true;
+  const LinkDiagnostics link_state = diagnostics.get();
   run_shell("kill -TERM " + node_pid + "; while kill -0 " + node_pid +
             " 2>/dev/null; do sleep 0.05; done");
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  ASSERT_TRUE(link_state.seen) << "no 'cambio: perception link' status on /diagnostics";
+  EXPECT_EQ(link_state.level, 0) << "the link was not OK while results came";
+  EXPECT_GT(std::stoi(link_state.values.at("results_used")), 0);
 
   // The goals are the shipped experiment's, scored against the sim's truth.
   const nlohmann::json summary = read_json(out_ / "run" / "summary.json");

@@ -11,6 +11,9 @@
 //  final_error_deg    The last row's true verging gaze error (dominant: for pursuit).
 //  off_target_s       After first_verged_s, the time of rows not target_occluded whose verging
 //                     error exceeds off_target_deg: verged on another surface, or on the way.
+//  longest_off_target_s  The longest unbroken stretch of such rows (occluded rows neither add to
+//                     a stretch nor end it): what kDistractors' goal bounds ("never more than
+//                     max_off_target_s verged elsewhere"), to within a hundredth of a row.
 //  occluded_s         The time of rows marked target_occluded.
 //  pursuit_rms_deg    RMS of the dominant eye's true gaze error from pursue_at_s + catch-up.
 //  saccade_stop_s     The first row after saccade_at_s at which the gaze loop's saccade is over.
@@ -53,6 +56,7 @@ struct GazeRunScore {
   std::optional<double> final_error_deg;
   std::optional<double> worst_error_deg;  ///< Verging error, after first_verged_s.
   double off_target_s = 0.0;
+  double longest_off_target_s = 0.0;
   double occluded_s = 0.0;
   std::optional<double> pursuit_rms_deg;
   std::optional<double> saccade_stop_s;

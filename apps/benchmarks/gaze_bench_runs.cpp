@@ -50,6 +50,7 @@ Json score_json(const GeneratedGazeRun& run, const GazeRunScore& score) {
               {"final_error_deg", to_json(score.final_error_deg)},
               {"worst_error_deg", to_json(score.worst_error_deg)},
               {"off_target_s", score.off_target_s},
+              {"longest_off_target_s", score.longest_off_target_s},
               {"occluded_s", score.occluded_s},
               {"pursuit_rms_deg", to_json(score.pursuit_rms_deg)},
               {"calibration", calibration}};

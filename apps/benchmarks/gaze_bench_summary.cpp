@@ -45,7 +45,7 @@ Json number_or_null(double value) {
 /// One task's runs, as the results give them.
 struct TaskFigures {
   int runs = 0, successes = 0, errors = 0;
-  std::vector<double> verged, final_error, worst, off_target, occluded, rms;
+  std::vector<double> verged, final_error, worst, off_target, longest_off_target, occluded, rms;
   /// Runs and successes by the target's texture kind: what kinds of surface the vision fails on.
   std::map<std::string, std::array<int, 2>> by_texture;
   Json failures = Json::array();
@@ -76,6 +76,7 @@ TaskFigures gather_task(const std::vector<Json>& results, const std::string& nam
     if (auto v = from_json(r, "worst_error_deg")) f.worst.push_back(*v);
     if (auto v = from_json(r, "pursuit_rms_deg")) f.rms.push_back(*v);
     f.off_target.push_back(r["off_target_s"].get<double>());
+    f.longest_off_target.push_back(r["longest_off_target_s"].get<double>());
     f.occluded.push_back(r["occluded_s"].get<double>());
     for (const Json& sample : r["calibration"]) {
       const double c = sample[0].get<double>();
@@ -99,6 +100,7 @@ Json task_json(const TaskFigures& f) {
          {"worst_error_deg", number_or_null(quantile(f.worst, 1.0))},
          {"median_off_target_s", number_or_null(median(f.off_target))},
          {"max_off_target_s", number_or_null(quantile(f.off_target, 1.0))},
+         {"max_longest_off_target_s", number_or_null(quantile(f.longest_off_target, 1.0))},
          {"total_occluded_s", [&] {
             double s = 0.0;
             for (double v : f.occluded) s += v;

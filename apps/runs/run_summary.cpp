@@ -56,10 +56,12 @@ Json gaze_json(const MainJobResult& result) {
           // jump while the dominant fovea held still (something in front of the verging eye);
           // returns to the vergence last verged on when it was measured again; anchors moved
           // to a surface at another depth held for GazeLoop::kReanchorAfter_s; and anchors
-          // forgotten as false matches (a confirmed jump with neither fovea changed).
+          // forgotten as false matches (a confirmed jump with neither fovea changed). A reading
+          // leaving the anchor with far less confidence than the anchor's is a doubtful one.
           {"vergence_rejected",
            {{"jump_awaiting_confirmation", result.gaze_held_jumps},
-            {"occlusion_of_the_verging_eye", result.gaze_occlusion_rejections}}},
+            {"occlusion_of_the_verging_eye", result.gaze_occlusion_rejections},
+            {"doubtful_departure_from_the_anchor", result.gaze_doubtful_departures}}},
           {"vergence_anchor_returns", result.gaze_anchor_returns},
           {"vergence_reanchors", result.gaze_reanchors},
           {"vergence_false_anchors", result.gaze_false_anchors},

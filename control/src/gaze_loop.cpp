@@ -581,6 +581,15 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
     applied_since_weak_rad_ = 0.0;
     if (!agrees) return;
   }
+  // Once verged on an anchor, a reading that asks to leave it, with much less confidence than
+  // the readings that verified it, is not followed: an object edging into the verging eye's
+  // window reads a little off the target before it reads its own depth, and weak evidence must
+  // not drag the eyes off a surface they see well.
+  if (verged_ && anchored_ && std::abs(asked_rad - anchor_rad_) > kAnchorAgreementRad &&
+      confidence < kDepartureConfidenceShare * anchor_confidence_) {
+    ++doubtful_departures_;
+    return;
+  }
   // Once verged, a sudden large error is believed only when the next measurement confirms it
   // (same direction, within a factor of two): an object crossing the line of sight, seen by the
   // SSM a frame or two late, must not drag the eyes off a target they still see.
@@ -635,15 +644,16 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const double step = std::clamp(params_.vergence.gain * error_rad, -params_.vergence.max_step_rad,
                                  params_.vergence.max_step_rad);
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
-  if (std::abs(error_rad) < kVergedRad) anchor_on(summary.stamp_ns);
+  if (std::abs(error_rad) < kVergedRad) anchor_on(summary.stamp_ns, confidence);
   applied_since_weak_rad_ += step;
   ++corrections_;
 }
 
-void GazeLoop::anchor_on(std::int64_t stamp_ns) noexcept {
+void GazeLoop::anchor_on(std::int64_t stamp_ns, double confidence) noexcept {
   if (!anchored_ || std::abs(vergence_rad_ - anchor_rad_) <= kVergenceJumpRad) {
     // The fixated surface's vergence, followed while it moves smoothly.
     anchor_rad_ = vergence_rad_;
+    anchor_confidence_ = confidence;
     anchored_ = true;
     verging_view_changed_ = false;
     elsewhere_since_ns_.reset();
@@ -656,6 +666,7 @@ void GazeLoop::anchor_on(std::int64_t stamp_ns) noexcept {
     elsewhere_since_ns_ = stamp_ns;
   } else if (static_cast<double>(stamp_ns - *elsewhere_since_ns_) * 1e-9 >= kReanchorAfter_s) {
     anchor_rad_ = vergence_rad_;
+    anchor_confidence_ = confidence;
     verging_view_changed_ = false;
     elsewhere_since_ns_.reset();
     ++reanchors_;

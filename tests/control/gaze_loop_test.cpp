@@ -471,11 +471,11 @@ TEST(GazeLoop, AJumpWhileNeitherFoveaChangedForgetsTheAnchorAsAFalseMatch) {
   head.params().vergence.min_confidence = 0.3;
   const double verged = verge_on_sphere(head);
   // Weak readings of another depth (a distractor in the wider windows) do not dispute the
-  // anchor, however many agree.
+  // anchor, however many agree: far less confident than the readings that verified it.
   head.set_confidence(0.2f);
   for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&sphere, 12.0);
   EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed weak readings";
-  EXPECT_GE(head.loop().occlusion_rejections(), 8U);
+  EXPECT_GE(head.loop().doubtful_departures(), 8U);
   const std::uint64_t rejected = head.loop().occlusion_rejections();
   // Verged on the alias of a periodic texture: the same unchanged view now reads 12 px (the
   // true match) confidently, frame after frame. Nothing came in front of the verging eye, so
@@ -493,6 +493,23 @@ TEST(GazeLoop, AJumpWhileNeitherFoveaChangedForgetsTheAnchorAsAFalseMatch) {
   for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&sphere, -back_px);
   EXPECT_EQ(head.loop().anchor_returns(), 0U);
   EXPECT_GT(head.status().vergence_rad, verged + 0.5 * kDeg);
+}
+
+TEST(GazeLoop, AReadingThatLeavesTheAnchorWithMuchLessConfidenceIsNotFollowed) {
+  GazeHarness head(eyes_on_sphere());
+  head.params().vergence.min_confidence = 0.3;
+  head.set_confidence(0.9f);
+  const double verged = verge_on_sphere(head);
+  // An object edging into the verging eye's window: 6 px off the target (0.6 deg, below a
+  // jump) at confidence 0.4, above min_confidence, frame after frame.
+  head.set_confidence(0.4f);
+  for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&kSphere, 6.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "followed doubtful readings";
+  EXPECT_GE(head.loop().doubtful_departures(), 9U);
+  // As confident as the readings the anchor was verified by: the surface really is there.
+  head.set_confidence(0.85f);
+  for (int i = 0; i < 3 * kCyclesPerFrame; ++i) head.step(&kSphere, 6.0);
+  EXPECT_GT(head.status().vergence_rad, verged + 0.2 * kDeg);
 }
 
 TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {

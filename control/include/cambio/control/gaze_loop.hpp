@@ -144,6 +144,10 @@ class GazeLoop final : public hal::Loop {
   /// Anchors moved to a vergence far from the old one, after the eye had held it
   /// kReanchorAfter_s (the fixated object really changed depth, or a false anchor was left).
   std::uint64_t reanchors() const { return reanchors_; }
+  /// Measurements not followed, once verged on an anchor, because they asked to leave it (by
+  /// more than kAnchorAgreementRad) with much less confidence than the readings that verified
+  /// it (below kDepartureConfidenceShare of theirs): an object coming into the window's edge.
+  std::uint64_t doubtful_departures() const { return doubtful_departures_; }
   /// The head joints' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from
   /// the loop's thread or after the executor stopped.
   const CommandTracking& tracking() const { return tracking_; }
@@ -172,6 +176,8 @@ class GazeLoop final : public hal::Loop {
   /// lasted this long: about as long as an object takes to cross the fovea, so a passing one
   /// never draws the verging eye off (each reading held counts in held_jumps()).
   static constexpr double kJumpFromAnchorAfter_s = 0.25;
+  /// A reading asking to leave the anchor needs this share of the anchor's own confidence.
+  static constexpr double kDepartureConfidenceShare = 0.75;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue, kTrajectory };
@@ -197,7 +203,7 @@ class GazeLoop final : public hal::Loop {
   /// estimate: small flow, small residual at the finest level).
   /// Verged at vergence_rad_ (a measurement's error below kVergedRad): moves the anchor there if
   /// it is near, or once the eye has stayed there kReanchorAfter_s.
-  void anchor_on(std::int64_t stamp_ns) noexcept;
+  void anchor_on(std::int64_t stamp_ns, double confidence) noexcept;
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
   /// Whether the verging eye's fovea may show new content since the previous frame: its motion
   /// not tracked to the finest level, or the previous frame, moved, not matching it. Its flow is
@@ -292,9 +298,11 @@ class GazeLoop final : public hal::Loop {
   std::uint64_t anchor_returns_ = 0;
   std::uint64_t reanchors_ = 0;
   std::uint64_t false_anchors_ = 0;
+  std::uint64_t doubtful_departures_ = 0;
   // The vergence last verged on the current target (since the last command or saccade).
   bool anchored_ = false;
   double anchor_rad_ = 0.0;
+  double anchor_confidence_ = 0.0;  // Of the last reading that verified the anchor.
   // Whether the verging eye's fovea has shown new content since the anchor was last verged on:
   // only then can something have come in front of it.
   bool verging_view_changed_ = false;

@@ -82,6 +82,7 @@ Json perceive_result_json(const PerceiveInputs& inputs, const perception::Sensor
                  {"scale_px", scan.scale_px},
                  {"window_tier", scan.window_tier},
                  {"window_samples", scan.window_samples},
+                 {"localized", scan.localized},
                  {"texture_rms", six_digits(scan.texture_rms)},
                  {"candidates", candidates}};
   }

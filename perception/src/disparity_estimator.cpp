@@ -136,9 +136,11 @@ DisparityEstimator::CandidateEvidence DisparityEstimator::weigh_candidate(
   evidence.key = candidate.score + candidate.context_score;
   evidence.weight = 2.0f;
   evidence.texture = scan.texture_rms;
+  evidence.localized = scan.localized;
   for (int k = scan.level - 1; k >= 0; --k) {
     const LevelDisparity& level = trial.per_level[static_cast<std::size_t>(k)];
     if (!level.searched || level.aperture || level.texture_rms < config_.min_texture_rms) continue;
+    evidence.localized = evidence.localized || (level.valid && !level.at_range_edge);
     // The finer levels' windows are smaller (a 9-px window at level 0 may see one smooth
     // texel): they tip the balance between candidates the scan finds alike, not more.
     evidence.key += kFinerLevelWeight * (level.valid ? level.peak_score : 0.0f);
@@ -177,8 +179,11 @@ float DisparityEstimator::scan_confidence(const CandidateEvidence& best, float s
       kDistinctMargin * std::sqrt(own_samples / std::max<double>(window_samples, own_samples));
   const double ratio = best.texture / config_.min_texture_rms;
   const double texture_factor = ratio * ratio / (1.0 + ratio * ratio);
+  // A disparity no window pinned down (the scan's widest scored a plateau, no finer level
+  // could match) is the tilt of texture running along x, not a depth: right by chance only.
+  const double localization = best.localized ? 1.0 : kUnlocalizedShare;
   return static_cast<float>(quality * quality * std::clamp(margin / distinct_margin, 0.0, 1.0) *
-                            texture_factor);
+                            texture_factor * localization);
 }
 
 void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& right,

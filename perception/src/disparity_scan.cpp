@@ -149,9 +149,11 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
 
   for (int tier = 0; tier < kWindowTiers; ++tier) {
     const bool last = tier + 1 == kWindowTiers;
-    if (!score_profile(tier, left_level, strip) && !last) continue;
+    const ProfileVerdict verdict = score_profile(tier, left_level, strip);
+    if (!(verdict.decisive && verdict.localized) && !last) continue;
     out.count = 0;
     out.window_tier = tier;
+    out.localized = verdict.localized;
     out.window_samples = (2 * tier_half(tier) + 1) * (2 * tier_half_y(tier) + 1);
     collect_candidates(tier, left_level, strip, out);
     // The scan's own window decides only if the next wider one does not clearly prefer another
@@ -168,8 +170,8 @@ void DisparityScan::scan(const FeatureMaps& left, const hal::Image& left_image,
   }
 }
 
-bool DisparityScan::score_profile(int tier, const float* left_level,
-                                  const RetinaLevelView& strip) noexcept {
+DisparityScan::ProfileVerdict DisparityScan::score_profile(int tier, const float* left_level,
+                                                           const RetinaLevelView& strip) noexcept {
   const int half = tier_half(tier);
   float best = kOutside;
   int best_shift = 0;
@@ -181,7 +183,7 @@ bool DisparityScan::score_profile(int tier, const float* left_level,
       best_shift = d;
     }
   }
-  if (!(best > 0.0f)) return false;
+  if (!(best > 0.0f)) return {};
   // The best local maximum of another disparity (not the best's neighbours). A plateau counts
   // as one: a profile that is flat (nothing varies along x) leads nowhere.
   float second = kOutside;
@@ -193,7 +195,21 @@ bool DisparityScan::score_profile(int tier, const float* left_level,
       second = std::max(second, s);
     }
   }
-  return best - second >= kDecisiveMargin;
+  // Localized: the score falls away within kLocalizedFlank samples on both sides (a rounded
+  // peak of coarse texture does; the lowest score of each flank counts, so a texture repeating
+  // every other sample does too). Texture running almost along x (horizontal stripes seen
+  // slightly askew, or with a little vertical disparity) scores a plateau of shifts alike, and
+  // its highest point is set by the tilt, not by the depth.
+  const auto at = [this](int d) {
+    return d < -range_ || d > range_ ? kOutside : scores_[static_cast<std::size_t>(d + range_)];
+  };
+  float below = best;
+  float above = best;
+  for (int step = 1; step <= kLocalizedFlank; ++step) {
+    below = std::min(below, at(best_shift - step));
+    above = std::min(above, at(best_shift + step));
+  }
+  return {best - second >= kDecisiveMargin, best - std::max(below, above) >= kLocalizedDrop};
 }
 
 void DisparityScan::collect_candidates(int tier, const float* left_level,

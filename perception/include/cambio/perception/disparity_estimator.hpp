@@ -107,6 +107,8 @@ class DisparityEstimator {
     float key = -1e9f;
     float weight = 1.0f;
     float texture = 0.0f;
+    /// The scan's peak stood out, or a finer level matched (DisparityScanResult::localized).
+    bool localized = false;
   };
   /// Refines each scan candidate (keys_, refined_) and puts the best's descent in `out`.
   CandidateEvidence refine_candidates(const FeatureMaps& left, const FeatureMaps& right,
@@ -130,6 +132,8 @@ class DisparityEstimator {
   /// The winner's lead over the runner-up (ZNCC per level) at which it is fully distinct, for
   /// the estimator's own window (a wider deciding window needs less).
   static constexpr double kDistinctMargin = 0.3;
+  /// The share of the confidence a disparity keeps when no window localized it.
+  static constexpr double kUnlocalizedShare = 0.1;
   /// How much a finer level's peak counts, against the scan level's, in choosing a candidate.
   static constexpr float kFinerLevelWeight = 0.5f;
   const float* plane(const float* level, int map) const {

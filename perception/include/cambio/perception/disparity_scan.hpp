@@ -34,6 +34,10 @@ struct DisparityScanResult {
   /// ones scored several shifts alike, or saw too little structure along x).
   int window_tier = 0;
   int window_samples = 0;  ///< The deciding window's samples (width x height).
+  /// The deciding window's best peak falls away on both sides (kLocalizedDrop within
+  /// kLocalizedFlank samples): false when even the widest window scored a plateau (texture along
+  /// x only), whose best shift says nothing of the depth.
+  bool localized = false;
   int count = 0;
   std::array<DisparityCandidate, kMaxCandidates> candidates{};
 };
@@ -54,7 +58,9 @@ struct DisparityScanResult {
 /// A periodic texture (a checkerboard) gives several alike peaks, and a texture without
 /// structure along x (horizontal stripes: the aperture problem) scores every shift alike. The
 /// window then grows (adaptive windows, as in Kanade and Okutomi's stereo): when the best peak
-/// does not beat every other by kDecisiveMargin, or the next wider window scores another peak
+/// does not beat every other by kDecisiveMargin, or is the top of a plateau rather than a peak
+/// (texture almost along x: its top is set by the stripes' tilt and any vertical disparity, not
+/// by the depth), or the next wider window scores another peak
 /// higher by that margin, the whole range is scored again with a window
 /// twice as wide, then four times: its view of the object's outline and surround matches at the
 /// true disparity only. The decisive window's local maxima are the candidates, each with the next
@@ -82,6 +88,11 @@ class DisparityScan {
   /// The least share of x structure (window_x_structure) with which a refinement level's
   /// window is matched (the estimator's aperture test).
   static constexpr float kMinXStructure = 0.1f;
+  /// A peak is localized when, on each side, a shift at most kLocalizedFlank samples away scores
+  /// kLocalizedDrop less (a rounded peak of coarse texture falls by 0.04 three samples away, a
+  /// fine texture by 0.2 one sample away; a plateau by 0.005).
+  static constexpr int kLocalizedFlank = 3;
+  static constexpr float kLocalizedDrop = 0.02f;
 
   bool enabled() const { return enabled_; }
   /// The eyes' lenses for the strip (right) and the left context (SensoryServo::set_lenses).
@@ -98,9 +109,14 @@ class DisparityScan {
   /// ZNCC at `shift` of window `tier` (half-width half_ << tier): the left window from the
   /// SSM's level for tier 0, from the wider left context level above it.
   float score(int tier, const float* left_level, int shift) const noexcept;
-  /// Scores every shift with window `tier` into scores_ (kOutside past the image); whether
-  /// its best peak decides (leads every other local maximum by kDecisiveMargin).
-  bool score_profile(int tier, const float* left_level, const RetinaLevelView& strip) noexcept;
+  struct ProfileVerdict {
+    bool decisive = false;   ///< The best peak leads every other local maximum by kDecisiveMargin.
+    bool localized = false;  ///< And stands out from its flanks (kLocalizedDrop).
+  };
+  /// Scores every shift with window `tier` into scores_ (kOutside past the image) and judges
+  /// its best peak.
+  ProfileVerdict score_profile(int tier, const float* left_level,
+                               const RetinaLevelView& strip) noexcept;
   /// The local maxima of scores_ (window `tier`), best first, into `out`.
   void collect_candidates(int tier, const float* left_level, const RetinaLevelView& strip,
                           DisparityScanResult& out) const noexcept;

@@ -8,7 +8,7 @@ namespace cambio::runtime {
 
 void LatencyHistogram::record_ns(std::int64_t latency_ns) noexcept {
   if (latency_ns < 0) latency_ns = 0;  // A wake-up can only be late; clamp clock noise.
-  const std::int64_t bucket = latency_ns / 1000;
+  const std::int64_t bucket = latency_ns / bucket_ns_;
   if (bucket < kBucketCount) {
     ++buckets_[static_cast<std::size_t>(bucket)];
   } else {
@@ -28,7 +28,8 @@ double LatencyHistogram::percentile_us(double fraction) const {
     seen += buckets_[static_cast<std::size_t>(i)];
     if (seen >= std::max<std::uint64_t>(rank, 1)) {
       // The bucket's upper edge, but never more than the true maximum.
-      return std::min(static_cast<double>(i + 1), static_cast<double>(max_ns_) / 1000.0);
+      return std::min(static_cast<double>((i + 1) * bucket_ns_) / 1000.0,
+                      static_cast<double>(max_ns_) / 1000.0);
     }
   }
   return static_cast<double>(max_ns_) / 1000.0;

@@ -76,12 +76,7 @@ PerceptionNode::~PerceptionNode() = default;
 PerceptionNodeCounts PerceptionNode::counts() const {
   const std::lock_guard lock(mutex_);
   PerceptionNodeCounts counts = counts_;
-  if (!ssm_us_.empty()) {
-    std::vector<double> sorted = ssm_us_;
-    const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
-    std::nth_element(sorted.begin(), middle, sorted.end());
-    counts.ssm_median_us = *middle;
-  }
+  if (ssm_time_.count() > 0) counts.ssm_median_us = ssm_time_.percentile_us(0.5);
   return counts;
 }
 
@@ -189,7 +184,7 @@ bool PerceptionNode::process_newest_pair() {
     return true;
   }
   ++counts_.pairs_processed;
-  ssm_us_.push_back(summary.timings.total_us);
+  ssm_time_.record_ns(static_cast<std::int64_t>(summary.timings.total_us * 1e3));
   const cambio_msgs_msg_dds__SsmSummary_& message =
       dds_->result->fill(summary, to_ros_time(summary.stamp_ns, 0));
   ++(dds_write(dds_->results, &message) == DDS_RETCODE_OK ? counts_.results_sent

@@ -10,16 +10,6 @@
 #include "node_graph.hpp"
 
 namespace cambio::ros2 {
-namespace {
-
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-}  // namespace
 
 // Deleting the participant deletes every entity it made.
 struct RobotPerceptionLink::Dds {
@@ -125,9 +115,8 @@ void RobotPerceptionLink::stop() {
 RobotPerceptionLinkCounts RobotPerceptionLink::counts() const {
   const std::lock_guard lock(mutex_);
   RobotPerceptionLinkCounts counts = counts_;
-  counts.latency_median_ms = median_of(latencies_ms_);
-  counts.latency_max_ms =
-      latencies_ms_.empty() ? 0.0 : *std::max_element(latencies_ms_.begin(), latencies_ms_.end());
+  counts.latency_median_ms = latencies_.percentile_us(0.5) / 1e3;
+  counts.latency_max_ms = static_cast<double>(latencies_.max_ns()) / 1e6;
   return counts;
 }
 
@@ -200,7 +189,7 @@ void RobotPerceptionLink::receive_results() {
         summary.sequence = ++used;
         results_.write(summary);
         ++counts_.results_used;
-        latencies_ms_.push_back(std::max(age_s, 0.0) * 1e3);
+        latencies_.record_ns(now_ns - summary.stamp_ns);
         last_result_ns_ = now_ns;
         if (lost_) {
           lost_ = false;

@@ -28,6 +28,19 @@ TEST(LatencyHistogram, SamplesBeyondTheRangeReportTheTrueMaximum) {
   EXPECT_DOUBLE_EQ(histogram.percentile_us(0.5), 4.0);
 }
 
+TEST(LatencyHistogram, WiderBucketsCoverMillisecondsInTheSameMemory) {
+  // The perception link's: 0.1 ms buckets, so network latencies of tens of ms have a median
+  // without keeping every sample.
+  LatencyHistogram histogram(100'000);
+  // 0.05 ms into each 0.1 ms bucket from 10.0 to 59.9 ms: 500 samples, the middle one 34.95 ms.
+  for (int tenth = 100; tenth < 600; ++tenth) histogram.record_ns(tenth * 100'000 + 50'000);
+  EXPECT_DOUBLE_EQ(histogram.percentile_us(0.5), 35'000.0);
+  EXPECT_DOUBLE_EQ(histogram.percentile_us(1.0), 59'950.0);
+  EXPECT_EQ(sizeof(histogram), sizeof(LatencyHistogram));
+  histogram.record_ns(2'000'000'000);  // 2 s: past the range
+  EXPECT_DOUBLE_EQ(histogram.percentile_us(1.0), 2'000'000.0);
+}
+
 TEST(LoopStatistics, JsonCarriesTheKeysLoopBenchPromises) {
   LoopStatistics stats;
   stats.name = "joint";

@@ -15,6 +15,7 @@
 #include "cambio/hal/stereo_frame.hpp"
 #include "cambio/hal/triple_buffer.hpp"
 #include "cambio/perception/ssm_server.hpp"
+#include "cambio/runtime/loop_statistics.hpp"
 
 namespace cambio::ros2 {
 
@@ -111,7 +112,8 @@ class RobotPerceptionLink {
   std::atomic<std::int64_t> last_pair_sent_ns_{-1};  // Run clock.
   mutable std::mutex mutex_;                         // Guards counts_ and latencies_.
   RobotPerceptionLinkCounts counts_;
-  std::vector<double> latencies_ms_;
+  // Exposure to result, 0.1 ms buckets up to 1 s (older results are dropped as stale first).
+  runtime::LatencyHistogram latencies_{100'000};
   // The receiving thread's (run clock): the last result used, the first pair it saw go out.
   std::int64_t last_result_ns_ = -1;
   std::int64_t first_pair_ns_ = -1;
@@ -171,8 +173,8 @@ class PerceptionNode {
   std::int64_t last_processed_stamp_ns_ = -1;
   std::int64_t max_skew_ns_ = 0;
   std::uint64_t cycle_ = 0;
-  std::vector<double> ssm_us_;
-  mutable std::mutex mutex_;  // Guards counts_.
+  runtime::LatencyHistogram ssm_time_;  // The SSM's time per pair, 1 µs buckets up to 10 ms.
+  mutable std::mutex mutex_;            // Guards counts_ and ssm_time_.
   PerceptionNodeCounts counts_;
 };
 

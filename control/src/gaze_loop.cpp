@@ -651,9 +651,13 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
 
 void GazeLoop::anchor_on(std::int64_t stamp_ns, double confidence) noexcept {
   if (!anchored_ || std::abs(vergence_rad_ - anchor_rad_) <= kVergenceJumpRad) {
-    // The fixated surface's vergence, followed while it moves smoothly.
+    // The fixated surface's vergence, followed while it moves smoothly. Its confidence is the
+    // strongest of the recent readings that verified it: an object edging into the window first
+    // weakens a reading at the anchor, and that must not lower the bar for the next, which
+    // already reads the object.
+    anchor_confidence_ =
+        anchored_ ? std::max(confidence, kAnchorConfidenceHold * anchor_confidence_) : confidence;
     anchor_rad_ = vergence_rad_;
-    anchor_confidence_ = confidence;
     anchored_ = true;
     verging_view_changed_ = false;
     elsewhere_since_ns_.reset();

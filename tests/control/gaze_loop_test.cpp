@@ -512,6 +512,21 @@ TEST(GazeLoop, AReadingThatLeavesTheAnchorWithMuchLessConfidenceIsNotFollowed) {
   EXPECT_GT(head.status().vergence_rad, verged + 0.2 * kDeg);
 }
 
+TEST(GazeLoop, AWeakReadingAtTheAnchorDoesNotLowerTheBarForTheNextDeparture) {
+  GazeHarness head(eyes_on_sphere());
+  head.params().vergence.min_confidence = 0.3;
+  head.set_confidence(0.9f);
+  const double verged = verge_on_sphere(head);
+  // An object edging into the verging eye's window: first a weakened reading still at the
+  // anchor, then readings 6 px off at confidence 0.4, as in the test above.
+  head.set_confidence(0.31f);
+  for (int i = 0; i < kCyclesPerFrame; ++i) head.step(&kSphere);
+  head.set_confidence(0.4f);
+  for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&kSphere, 6.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4) << "the weak reading lowered the bar";
+  EXPECT_GE(head.loop().doubtful_departures(), 9U);
+}
+
 TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {
   const Eigen::Vector3d& sphere = kSphere;
   GazeHarness head(eyes_on_sphere());

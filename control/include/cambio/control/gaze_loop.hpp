@@ -178,6 +178,9 @@ class GazeLoop final : public hal::Loop {
   static constexpr double kJumpFromAnchorAfter_s = 0.25;
   /// A reading asking to leave the anchor needs this share of the anchor's own confidence.
   static constexpr double kDepartureConfidenceShare = 0.75;
+  /// The anchor's confidence keeps this share of its previous value per verifying reading when a
+  /// weaker one verifies it (about a quarter-second memory at 30 frames a second).
+  static constexpr double kAnchorConfidenceHold = 0.9;
 
  private:
   enum class Mode : std::uint8_t { kHold, kFixate, kSaccade, kPursue, kTrajectory };
@@ -302,7 +305,7 @@ class GazeLoop final : public hal::Loop {
   // The vergence last verged on the current target (since the last command or saccade).
   bool anchored_ = false;
   double anchor_rad_ = 0.0;
-  double anchor_confidence_ = 0.0;  // Of the last reading that verified the anchor.
+  double anchor_confidence_ = 0.0;  // Of the recent readings that verified the anchor.
   // Whether the verging eye's fovea has shown new content since the anchor was last verged on:
   // only then can something have come in front of it.
   bool verging_view_changed_ = false;

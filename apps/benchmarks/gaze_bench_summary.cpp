@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bench_timing.hpp"
+#include "gaze_bench_score.hpp"
 #include "gaze_scene_generator.hpp"
 
 namespace cambio::app {
@@ -38,6 +39,10 @@ double quantile(std::vector<double> values, double q) {
   return values[static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)))];
 }
 
+/// A run spending longer than this off the target in one stretch was drawn onto another
+/// surface: the distractors' goal (GazeScoreSettings::max_off_target_s), for every task.
+const double kDrawnOffAfter_s = GazeScoreSettings{}.max_off_target_s;
+
 Json number_or_null(double value) {
   return std::isfinite(value) ? Json(value) : Json(nullptr);
 }
@@ -48,6 +53,12 @@ struct TaskFigures {
   std::vector<double> verged, final_error, worst, off_target, longest_off_target, occluded, rms;
   /// Runs and successes by the target's texture kind: what kinds of surface the vision fails on.
   std::map<std::string, std::array<int, 2>> by_texture;
+  /// How the runs that did not meet the goal ended (each counted once, in this order): the
+  /// verging eye never came within verged_deg of the target (it held, or stopped short); it
+  /// verged, then spent longer than the distractors' bound off it in one stretch while the
+  /// target was visible (drawn onto another surface); or it fell short otherwise (verged late,
+  /// ended a little off, pursuit's RMS above its goal).
+  int never_verged = 0, drawn_off = 0, short_of_goal = 0;
   Json failures = Json::array();
 };
 
@@ -70,6 +81,13 @@ TaskFigures gather_task(const std::vector<Json>& results, const std::string& nam
       ++by_texture[1];
     } else {
       f.failures.push_back(Json{{"name", r["name"]}, {"why", r["failure"]}});
+      if (!from_json(r, "first_verged_s")) {
+        ++f.never_verged;
+      } else if (r["longest_off_target_s"].get<double>() > kDrawnOffAfter_s) {
+        ++f.drawn_off;
+      } else {
+        ++f.short_of_goal;
+      }
     }
     if (auto v = from_json(r, "verged_at_s")) f.verged.push_back(*v);
     if (auto v = from_json(r, "final_error_deg")) f.final_error.push_back(*v);
@@ -115,6 +133,9 @@ Json task_json(const TaskFigures& f) {
     by_texture[kind] = Json{{"runs", counts[0]}, {"successes", counts[1]}};
   }
   t["by_target_texture"] = by_texture;
+  t["failed_runs"] = Json{{"never_verged", f.never_verged},
+                          {"drawn_off_target", f.drawn_off},
+                          {"short_of_goal", f.short_of_goal}};
   t["failures"] = f.failures;
   return t;
 }
@@ -173,6 +194,10 @@ void print_gaze_bench_table(const Json& summary) {
                     "/" + std::to_string(kind.value()["runs"].get<int>());
     }
     std::printf("%s\n", by_texture.c_str());
+    const Json& failed = t["failed_runs"];
+    std::printf("    failed runs: %d never verged, %d drawn off the target, %d short of the goal\n",
+                failed["never_verged"].get<int>(), failed["drawn_off_target"].get<int>(),
+                failed["short_of_goal"].get<int>());
     for (const Json& f : t["failures"]) {
       std::printf("    %s: %s\n", f["name"].get<std::string>().c_str(),
                   f["why"].get<std::string>().c_str());

@@ -16,6 +16,7 @@
 
 #include "cambio/config/experiment_config.hpp"
 #include "cambio/config/shipped_config.hpp"
+#include "gaze_bench_summary.hpp"
 #include "run_cambio.hpp"
 
 namespace cambio::app {
@@ -110,6 +111,15 @@ TEST(GazeBench, ATwentySceneSubsetRunsAndIsScoredAgainstTheTruth) {
     EXPECT_EQ(runs, task.value()["runs"].get<int>()) << task.key();
   }
   EXPECT_TRUE(summary["tasks"]["untextured"]["by_target_texture"].contains("none"));
+  // Every failed run is counted once under how it ended.
+  for (const auto& task : summary["tasks"].items()) {
+    const auto& t = task.value();
+    const auto& failed = t["failed_runs"];
+    EXPECT_EQ(failed["never_verged"].get<int>() + failed["drawn_off_target"].get<int>() +
+                  failed["short_of_goal"].get<int>(),
+              t["runs"].get<int>() - t["successes"].get<int>() - t["errors"].get<int>())
+        << task.key();
+  }
   // Textured vergence and re-vergence across depths: the behaviour the bench exists for.
   EXPECT_GE(summary["tasks"]["verge"]["successes"].get<int>(), 3) << result.output;
   EXPECT_GE(summary["tasks"]["saccade_depth"]["successes"].get<int>(), 3) << result.output;
@@ -118,6 +128,40 @@ TEST(GazeBench, ATwentySceneSubsetRunsAndIsScoredAgainstTheTruth) {
     measurements += bin["measurements"].get<int>();
   }
   EXPECT_GT(measurements, 100) << "every run's disparities are compared with the truth";
+}
+
+/// One run's JSON as gaze_bench_runs.cpp writes it, with the fields the summary reads.
+Json untextured_run(const char* name, bool success, Json first_verged_s,
+                    double longest_off_target_s) {
+  return Json{{"name", name},
+              {"task", "untextured"},
+              {"success", success},
+              {"failure", success ? "" : "not verged at the end"},
+              {"target_texture", "none"},
+              {"verged_at_s", success ? Json(0.2) : Json(nullptr)},
+              {"first_verged_s", first_verged_s},
+              {"final_error_deg", 1.0},
+              {"worst_error_deg", 2.0},
+              {"pursuit_rms_deg", nullptr},
+              {"off_target_s", longest_off_target_s},
+              {"longest_off_target_s", longest_off_target_s},
+              {"occluded_s", 0.0},
+              {"calibration", Json::array()}};
+}
+
+TEST(GazeBenchSummary, FailedRunsAreToldApartByHowTheyEnded) {
+  const std::vector<Json> runs{
+      untextured_run("met", true, 0.1, 0.0),
+      untextured_run("held_parallel", false, nullptr, 0.0),
+      untextured_run("drawn_off", false, 0.1, 0.5),
+      untextured_run("a_little_off", false, 0.1, 0.05),
+      untextured_run("just_within_the_bound", false, 0.1, 0.1),
+  };
+  const Json t = summarise_gaze_bench(runs, 1, 5)["tasks"]["untextured"];
+  EXPECT_EQ(t["successes"], 1);
+  EXPECT_EQ(t["failed_runs"]["never_verged"], 1);
+  EXPECT_EQ(t["failed_runs"]["drawn_off_target"], 1);
+  EXPECT_EQ(t["failed_runs"]["short_of_goal"], 2);
 }
 
 }  // namespace

@@ -215,7 +215,9 @@ void MotionEstimator::track_key(const Frame& now, const MotionResult& frame_to_f
     const float initial_y = key_to_previous_y_ + frame_to_frame.flow_y_px;
     int level = -1;
     out.key_valid = track(now, key_, std::min(1, levels_ - 1), initial_x, initial_y,
-                          out.key_flow_x_px, out.key_flow_y_px, level, nullptr);
+                          out.key_flow_x_px, out.key_flow_y_px, level, nullptr) &&
+                    std::hypot(out.key_flow_x_px - initial_x, out.key_flow_y_px - initial_y) <=
+                        kMaxKeyCorrectionPx;
     out.key_frame = key_frame_;
     ++key_age_frames_;
     renew = !out.key_valid || key_age_frames_ >= config_.rekey_frames ||

@@ -56,6 +56,12 @@ class MotionEstimator {
   /// S_now - S_previous per level. Real-time safe.
   void estimate(const Retina& retina, MotionResult& out, float* temporal) noexcept;
 
+  /// The most the key may correct the sum of the frames' flows since it (level-0 px). That sum
+  /// errs by a fraction of a pixel (a few frames' noise); a larger correction is the key's
+  /// content matched one period off on a periodic texture (checkers: 3-8 px jumps), and would
+  /// move a pursued target's position by that much. Such a key is not valid and is renewed.
+  static constexpr double kMaxKeyCorrectionPx = 2.0;
+
  private:
   struct Frame {
     std::vector<float> smooth;  ///< Per level, width x height.

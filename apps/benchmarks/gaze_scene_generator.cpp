@@ -26,6 +26,7 @@ using gaze_scene::Vec3;
 /// seed means.
 struct RunPlan {
   Vec3 eye{};            ///< The dominant eye, world frame.
+  Vec3 other_eye{};      ///< The verging eye.
   double depth = 0.0;    ///< The target's, from the dominant eye.
   double azimuth = 0.0;  ///< The target's (where it starts, for kPursuit), rad.
   double elevation = 0.0;
@@ -93,20 +94,43 @@ void add_pursuit_target(Draw& draw, RunPlan& plan, GeneratedGazeRun& run) {
       ", pursue: {}}\n";
 }
 
+/// Whether both eyes see both objects' centres: neither object (of its largest bounding radius)
+/// stands between an eye and the other's centre. A near target can hide a far one from the
+/// verging eye alone (12 cm of baseline), which would make the run's re-vergence impossible.
+bool mutually_visible(const RunPlan& plan, const Vec3& a, double a_radius_m, const Vec3& b,
+                      double b_radius_m) {
+  for (const Vec3& eye : {plan.eye, plan.other_eye}) {
+    if (gaze_scene::blocks_segment(eye, b, a, a_radius_m) ||
+        gaze_scene::blocks_segment(eye, a, b, b_radius_m)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// kSaccadeDepth: another depth (at least a factor 1.5 nearer or further: a vergence change of
-/// 0.7 deg at 3 m, 5 deg at 0.4 m) and another direction, 10-30 deg away.
+/// 0.7 deg at 3 m, 5 deg at 0.4 m) and another direction, 10-30 deg away, where both eyes see
+/// both objects.
 void add_saccade_target(Draw& draw, RunPlan& plan, GeneratedGazeRun& run) {
   const double depth = plan.depth;
   double second = depth;
   while (std::max(second / depth, depth / second) < 1.5) second = draw.log_uniform(0.4, 3.0);
   double second_azimuth = plan.azimuth;
   double second_elevation = plan.elevation;
+  const Object& first = plan.objects.front();
+  // target_at draws the second's size below: its largest.
+  const double second_radius_m = gaze_scene::bounding_radius_m(second * std::tan(6.0 * kDeg));
   for (int tries = 0; tries < 100; ++tries) {
     second_azimuth = draw.uniform(-25.0, 25.0) * kDeg;
     second_elevation = draw.uniform(-20.0, 20.0) * kDeg;
     const double apart = gaze_scene::angle_between(direction(plan.azimuth, plan.elevation),
                                                    direction(second_azimuth, second_elevation));
-    if (apart > 10.0 * kDeg && apart < 30.0 * kDeg) break;
+    const Vec3 second_W = add(plan.eye, scale(direction(second_azimuth, second_elevation), second));
+    if (apart > 10.0 * kDeg && apart < 30.0 * kDeg &&
+        mutually_visible(plan, first.xyz_m, gaze_scene::bounding_radius_m(first.size_m), second_W,
+                         second_radius_m)) {
+      break;
+    }
   }
   run.second_depth_m = second;
   run.saccade_at_s = 1.0;
@@ -213,6 +237,7 @@ GeneratedGazeRun generate_gaze_run(GazeBenchTask task, int index, std::uint64_t 
   run.name = name;
 
   RunPlan plan = plan_target(draw, task, head.left_eye_W_m, run);
+  plan.other_eye = head.right_eye_W_m;
   if (task == GazeBenchTask::kPursuit) {
     add_pursuit_target(draw, plan, run);
   } else {

@@ -52,6 +52,19 @@ double angle_between(const Vec3& a, const Vec3& b) {
   return std::acos(std::clamp(dot, -1.0, 1.0));
 }
 
+bool blocks_segment(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m) {
+  const Vec3 along = add(to, scale(from, -1.0));
+  const Vec3 to_centre = add(centre, scale(from, -1.0));
+  const double length2 = along[0] * along[0] + along[1] * along[1] + along[2] * along[2];
+  if (!(length2 > 0.0)) return false;
+  const double t =
+      (along[0] * to_centre[0] + along[1] * to_centre[1] + along[2] * to_centre[2]) / length2;
+  if (t <= 0.0 || t >= 1.0) return false;
+  const Vec3 nearest = add(from, scale(along, t));
+  const Vec3 off = add(centre, scale(nearest, -1.0));
+  return off[0] * off[0] + off[1] * off[1] + off[2] * off[2] < radius_m * radius_m;
+}
+
 std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.4f", value);

@@ -26,6 +26,16 @@ Vec3 direction(double azimuth_rad, double elevation_rad);
 /// Angle between two unit directions.
 double angle_between(const Vec3& a, const Vec3& b);
 
+/// Whether the segment from `from` to `to` passes within `radius_m` of `centre` (between its
+/// ends): an object of that bounding radius there hides `to` from `from`.
+bool blocks_segment(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m);
+
+/// The radius of a sphere holding any generated object of `size_m` (a box's corner: sqrt(3)
+/// half-sizes; a cylinder's rim, 1.25 radii from its middle: 1.6).
+inline double bounding_radius_m(double size_m) {
+  return std::sqrt(3.0) * size_m;
+}
+
 /// `value` as the YAML gives numbers: four decimals.
 std::string number(double value);
 std::string triple(const Vec3& v);

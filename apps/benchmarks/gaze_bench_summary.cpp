@@ -57,7 +57,7 @@ struct TaskFigures {
   /// verging eye never came within verged_deg of the target (it held, or stopped short); it
   /// verged, then spent longer than the distractors' bound off it in one stretch while the
   /// target was visible (drawn onto another surface); or it fell short otherwise (verged late,
-  /// ended a little off, pursuit's RMS above its goal).
+  /// ended a little off; every failed pursuit: its RMS above its goal).
   int never_verged = 0, drawn_off = 0, short_of_goal = 0;
   Json failures = Json::array();
 };
@@ -81,7 +81,9 @@ TaskFigures gather_task(const std::vector<Json>& results, const std::string& nam
       ++by_texture[1];
     } else {
       f.failures.push_back(Json{{"name", r["name"]}, {"why", r["failure"]}});
-      if (!from_json(r, "first_verged_s")) {
+      if (from_json(r, "pursuit_rms_deg")) {
+        ++f.short_of_goal;  // Pursuit is judged by the dominant eye's RMS error alone.
+      } else if (!from_json(r, "first_verged_s")) {
         ++f.never_verged;
       } else if (r["longest_off_target_s"].get<double>() > kDrawnOffAfter_s) {
         ++f.drawn_off;

@@ -221,6 +221,13 @@ TEST(GazeBenchSummary, FailedRunsAreToldApartByHowTheyEnded) {
   EXPECT_EQ(t["failed_runs"]["never_verged"], 1);
   EXPECT_EQ(t["failed_runs"]["drawn_off_target"], 1);
   EXPECT_EQ(t["failed_runs"]["short_of_goal"], 2);
+  // Pursuit is judged by its RMS error, not by when the verging eye first verged.
+  Json pursuit = untextured_run("pursuit_rms", false, nullptr, 0.0);
+  pursuit["task"] = "pursuit";
+  pursuit["pursuit_rms_deg"] = 1.5;
+  const Json p = summarise_gaze_bench({pursuit}, 1, 1)["tasks"]["pursuit"];
+  EXPECT_EQ(p["failed_runs"]["never_verged"], 0);
+  EXPECT_EQ(p["failed_runs"]["short_of_goal"], 1);
 }
 
 }  // namespace

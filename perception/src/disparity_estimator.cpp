@@ -126,7 +126,7 @@ void DisparityEstimator::descend_from_candidate(const FeatureMaps& left, const F
   trial.disparity_px = candidate.disparity_px;
   trial.level = scan.level;
   descend(left, right, left_retina, right_retina, scan.level - 1, true, candidate.disparity_px,
-          scan.scale_px, trial, shifted);
+          scan.scale_px, trial, shifted, /*from_scan=*/true);
 }
 
 DisparityEstimator::CandidateEvidence DisparityEstimator::weigh_candidate(
@@ -190,7 +190,7 @@ void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& rig
                                  const Retina& left_retina, const Retina& right_retina,
                                  int from_level, bool have_estimate, double estimate_px,
                                  int coarser_scale, DisparityResult& out,
-                                 ShiftedLevelSource* shifted) const noexcept {
+                                 ShiftedLevelSource* shifted, bool from_scan) const noexcept {
   const int cx = width_ / 2;
   // Shifts d keep the right window inside the map: right columns cx - h - d .. cx + h - d.
   const int shift_min = cx + half_ - (width_ - 1);
@@ -203,6 +203,8 @@ void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& rig
     const float* left_maps = left.level(k);
     int lo = 0;
     int hi = 0;
+    int centre = 0;
+    bool widened = false;
     if (!have_estimate) {
       const int range = static_cast<int>(std::ceil(config_.search_range_px / scale));
       lo = -range;
@@ -211,9 +213,17 @@ void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& rig
       // refine_range_px finer px around the estimate for an octave step; a field-covering
       // coarsest level can be many octaves coarser, and its uncertainty grows with the ratio.
       const int ratio = std::max(1, coarser_scale / scale);
-      const int range = std::min(
-          std::max(config_.refine_range_px, (config_.refine_range_px * ratio + 1) / 2), width_);
-      const int centre = static_cast<int>(std::lround(estimate_px / scale));
+      int range = std::max(config_.refine_range_px, (config_.refine_range_px * ratio + 1) / 2);
+      // The scan's window is wide enough to hold a near curved object's outline, whose disparity
+      // is no surface point's (each eye sees its own occluding contour: a 3-cm ball 0.7 m away
+      // has them 5 px apart), and on a fine periodic texture the finer levels would lock onto
+      // the alias within their range: the first level below the scan searches one scan block
+      // further each way.
+      widened = from_scan;
+      if (widened) range += ratio;
+      range = std::min(range, width_);
+      from_scan = false;
+      centre = static_cast<int>(std::lround(estimate_px / scale));
       lo = centre - range;
       hi = centre + range;
     }
@@ -276,6 +286,17 @@ void DisparityEstimator::descend(const FeatureMaps& left, const FeatureMaps& rig
         (d > hi ? hi : lo) = d;
         if (at(d) > at(best)) best = d;
       }
+    }
+    // In the widened range a periodic texture has alike peaks a period apart: the one nearest
+    // the scan's estimate stands unless another is decisively better (the scan's bias corrected,
+    // not an alias taken).
+    if (widened) {
+      int nearest = best;
+      for (int d = lo; d <= hi; ++d) {
+        const bool peak = (d == lo || at(d) >= at(d - 1)) && (d == hi || at(d) >= at(d + 1));
+        if (peak && std::abs(d - centre) < std::abs(nearest - centre)) nearest = d;
+      }
+      if (at(best) - at(nearest) < DisparityScan::kDecisiveMargin) best = nearest;
     }
     level.searched = true;
     level.search_min_px = lo;

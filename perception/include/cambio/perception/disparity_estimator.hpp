@@ -64,7 +64,9 @@ class ShiftedLevelSource {
 /// simple correlation approach is used over the above second order Gaussian derivative,
 /// considering estimations given by previous levels"). The coarsest level searches the
 /// configured range; each finer level searches +- refine_range_px around the coarser estimate
-/// scaled up (wider after a field-covering level many octaves coarser). Shifts beyond the
+/// scaled up (wider after a field-covering level many octaves coarser, and one scan block wider
+/// below the whole-range scan, keeping the peak nearest its estimate unless another is
+/// DisparityScan::kDecisiveMargin better). Shifts beyond the
 /// overlap of the two retinas (a 16-px fovea with a 9-px window holds -3 .. +4 px) are scored
 /// against right windows moved through a ShiftedLevelSource, so every level refines whatever
 /// disparity the coarser level found. The score is the zero-mean normalised cross-correlation of a
@@ -97,10 +99,12 @@ class DisparityEstimator {
   /// arguments point at one level's planes (FeatureMaps::level layout).
   float score(const float* left, const float* right, int shift) const noexcept;
   float left_texture(const float* left) const noexcept;
-  /// Coarse-to-fine from `from_level` down to level 0, from a coarser estimate if one is given.
+  /// Coarse-to-fine from `from_level` down to level 0, from a coarser estimate if one is given
+  /// (`from_scan`: the scan's, which the first level refines over one scan block more).
   void descend(const FeatureMaps& left, const FeatureMaps& right, const Retina& left_retina,
                const Retina& right_retina, int from_level, bool have_estimate, double estimate_px,
-               int coarser_scale, DisparityResult& out, ShiftedLevelSource* shifted) const noexcept;
+               int coarser_scale, DisparityResult& out, ShiftedLevelSource* shifted,
+               bool from_scan = false) const noexcept;
   /// A scan candidate's case after its descent: its score summed over the levels compared, the
   /// weight they sum to, and the most textured of them. The defaults stand for no candidate.
   struct CandidateEvidence {

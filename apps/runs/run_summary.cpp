@@ -65,6 +65,9 @@ Json gaze_json(const MainJobResult& result) {
           {"vergence_anchor_returns", result.gaze_anchor_returns},
           {"vergence_reanchors", result.gaze_reanchors},
           {"vergence_false_anchors", result.gaze_false_anchors},
+          // Corrections on readings too faint to count, followed because GazeLoop::kFaintAgreements
+          // of them in a row agreed before anything was verged on.
+          {"vergence_faint_steps", result.gaze_faint_steps},
           {"final_action", gaze_action_name(gaze.action)},
           {"final_vergence_rad", gaze.vergence_rad}};
 }

@@ -243,6 +243,7 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
         elsewhere_since_ns_.reset();
         pending_jump_rad_ = 0.0;
         weak_pending_ = false;
+        faint_agreements_ = 0;
         vergence_blind_until_ns_ = now_ns;
       }
       break;
@@ -288,6 +289,7 @@ void GazeLoop::restart_from_measured(std::int64_t now_ns) noexcept {
   verged_ = false;
   pending_jump_rad_ = 0.0;
   weak_pending_ = false;
+  faint_agreements_ = 0;
   if (mode_ == Mode::kSaccade) start_saccade(now_ns);
   if (mode_ == Mode::kTrajectory) {
     follower_.stop();
@@ -344,6 +346,7 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
   elsewhere_since_ns_.reset();
   pending_jump_rad_ = 0.0;
   weak_pending_ = false;
+  faint_agreements_ = 0;
   ++status_.commands_applied;
   status_.action = command.action;
   switch (command.action) {
@@ -545,15 +548,15 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   const double d_px = static_cast<double>(disparity.disparity_px);
   const double confidence = static_cast<double>(disparity.confidence);
   if (anchored_ && verging_fovea_changed(summary)) verging_view_changed_ = true;
-  const double floor = params_.vergence.min_confidence / 3.0;
-  if (!disparity.valid || !std::isfinite(d_px) || !(confidence >= floor) ||
-      summary.stamp_ns < vergence_blind_until_ns_) {
+  if (!disparity.valid || !std::isfinite(d_px) || summary.stamp_ns < vergence_blind_until_ns_) {
     return;
   }
   // The angle the verging eye must still turn (sign as applied to its pan).
   const double error_rad = vergence_controller_.angular_error_rad(d_px);
   // The vergence this measurement asks for (as the steps below apply it).
   const double asked_rad = vergence_rad_ + (verging_ == hal::Eye::kRight ? error_rad : -error_rad);
+  const bool faint = !(confidence >= params_.vergence.min_confidence / 3.0);
+  if (faint && !faint_reading_persists(error_rad, asked_rad)) return;
   if (anchored_ && std::abs(asked_rad - anchor_rad_) <= kAnchorAgreementRad &&
       std::abs(vergence_rad_ - anchor_rad_) > kVergenceJumpRad) {
     // The surface the eyes were verged on is seen again (whatever had drawn the verging eye off
@@ -562,11 +565,12 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
     verged_ = true;
     pending_jump_rad_ = 0.0;
     weak_pending_ = false;
+    faint_agreements_ = 0;
     elsewhere_since_ns_.reset();
     ++anchor_returns_;
     return;
   }
-  if (confidence < params_.vergence.min_confidence) {
+  if (!faint && confidence < params_.vergence.min_confidence) {
     // A weak measurement is believed when the next one agrees with it, as it stands or less what
     // the eye has turned since (the frame may predate the turn): two frames' noise rarely agrees
     // on a disparity by chance. A periodic texture's alias can; the margin in the confidence
@@ -646,7 +650,30 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   vergence_rad_ += verging_ == hal::Eye::kRight ? step : -step;
   if (std::abs(error_rad) < kVergedRad) anchor_on(summary.stamp_ns, confidence);
   applied_since_weak_rad_ += step;
+  applied_since_faint_rad_ += step;
   ++corrections_;
+}
+
+bool GazeLoop::faint_reading_persists(double error_rad, double asked_rad) noexcept {
+  // A surface verged on since the command is not left on faint evidence; near it, faint readings
+  // still refine the vergence.
+  if ((verged_ || anchored_) &&
+      !(anchored_ && std::abs(asked_rad - anchor_rad_) <= kAnchorAgreementRad)) {
+    faint_agreements_ = 0;
+    return false;
+  }
+  const double tolerance = kWeakAgreementRad + 0.1 * std::abs(error_rad);
+  const bool agrees =
+      faint_agreements_ > 0 &&
+      (std::abs(error_rad - faint_error_rad_) <= tolerance ||
+       std::abs(error_rad - (faint_error_rad_ - applied_since_faint_rad_)) <= tolerance);
+  faint_agreements_ = agrees ? faint_agreements_ + 1 : 1;
+  faint_error_rad_ = error_rad;
+  applied_since_faint_rad_ = 0.0;
+  // Each further reading that agrees extends the run and is followed too.
+  if (faint_agreements_ < kFaintAgreements) return false;
+  ++faint_steps_;
+  return true;
 }
 
 void GazeLoop::anchor_on(std::int64_t stamp_ns, double confidence) noexcept {

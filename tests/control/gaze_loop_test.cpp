@@ -527,6 +527,27 @@ TEST(GazeLoop, AWeakReadingAtTheAnchorDoesNotLowerTheBarForTheNextDeparture) {
   EXPECT_GE(head.loop().doubtful_departures(), 9U);
 }
 
+TEST(GazeLoop, FaintReadingsThatAgreeAreFollowedUntilSomethingIsVergedOnButNotAfter) {
+  // A large true disparity on a periodic texture: every reading is right but scores little lead
+  // over its aliases, below a third of min_confidence, frame after frame.
+  GazeHarness head(eyes_on_sphere());
+  head.params().vergence.min_confidence = 0.3;
+  head.set_confidence(0.05f);
+  head.build();
+  head.command(GazeAction::kFixate, GazeHarness::point(kSphere));
+  for (int i = 0; i < (GazeLoop::kFaintAgreements - 1) * kCyclesPerFrame; ++i) head.step(&kSphere);
+  EXPECT_NEAR(head.status().vergence_rad, 0.0, 1e-12) << "followed too few faint readings";
+  EXPECT_EQ(head.loop().faint_steps(), 0U);
+  for (int i = 0; i < 400; ++i) head.step(&kSphere);
+  EXPECT_LT(head.gaze_error_deg(hal::Eye::kRight, kSphere), 0.05);
+  EXPECT_GE(head.loop().faint_steps(), 3U);
+  // Verged: faint readings of another depth, however many agree, do not move the eye.
+  const double verged = head.status().vergence_rad;
+  for (int i = 0; i < 10 * kCyclesPerFrame; ++i) head.step(&kSphere, 40.0);
+  EXPECT_NEAR(head.status().vergence_rad, verged, 1e-4)
+      << "left a verged surface on faint readings";
+}
+
 TEST(GazeLoop, AnObjectCrossingBothEyesViewsDoesNotMoveTheAnchorUnlessItStays) {
   const Eigen::Vector3d& sphere = kSphere;
   GazeHarness head(eyes_on_sphere());

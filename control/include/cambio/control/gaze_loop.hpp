@@ -148,6 +148,9 @@ class GazeLoop final : public hal::Loop {
   /// more than kAnchorAgreementRad) with much less confidence than the readings that verified
   /// it (below kDepartureConfidenceShare of theirs): an object coming into the window's edge.
   std::uint64_t doubtful_departures() const { return doubtful_departures_; }
+  /// Vergence steps taken on kFaintAgreements faint readings in a row (before anything was verged
+  /// on since the command).
+  std::uint64_t faint_steps() const { return faint_steps_; }
   /// The head joints' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from
   /// the loop's thread or after the executor stopped.
   const CommandTracking& tracking() const { return tracking_; }
@@ -162,6 +165,13 @@ class GazeLoop final : public hal::Loop {
   static constexpr double kMinTargetDistance_m = 0.01;
   /// Two weak measurements agree within this (plus a tenth of the error): about 2 px at 554 px.
   static constexpr double kWeakAgreementRad = 0.2 * std::numbers::pi / 180.0;
+  /// Before anything has been verged on since the command (or near the anchor, within
+  /// kAnchorAgreementRad), a reading too faint to count (below a third of min_confidence) is
+  /// followed once this many in a row agree (kWeakAgreementRad):
+  /// a large true disparity, or a periodic texture's, scores little margin over its aliases
+  /// frame after frame, and ignoring it leaves the eyes parallel for good; a step towards it
+  /// brings the target to disparities the fovea's levels match confidently, or shows it wrong.
+  static constexpr int kFaintAgreements = 4;
   /// The dominant fovea shows the same surface as a frame ago when it moved less than this and
   /// the previous frame, moved, matches it to this rms (grey levels: a few times sensor noise).
   static constexpr double kSteadyFlowPx = 1.0;
@@ -207,6 +217,9 @@ class GazeLoop final : public hal::Loop {
   /// Verged at vergence_rad_ (a measurement's error below kVergedRad): moves the anchor there if
   /// it is near, or once the eye has stayed there kReanchorAfter_s.
   void anchor_on(std::int64_t stamp_ns, double confidence) noexcept;
+  /// Whether a faint reading (below a third of min_confidence) is the kFaintAgreements-th in a
+  /// row to agree, before anything has been verged on or near the anchor: then it is followed.
+  bool faint_reading_persists(double error_rad, double asked_rad) noexcept;
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
   /// Whether the verging eye's fovea may show new content since the previous frame: its motion
   /// not tracked to the finest level, or the previous frame, moved, not matching it. Its flow is
@@ -320,6 +333,11 @@ class GazeLoop final : public hal::Loop {
   bool weak_pending_ = false;
   double weak_error_rad_ = 0.0;
   double applied_since_weak_rad_ = 0.0;
+  // Readings below a third of min_confidence agreeing in a row (faint_reading_persists).
+  int faint_agreements_ = 0;
+  double faint_error_rad_ = 0.0;
+  double applied_since_faint_rad_ = 0.0;
+  std::uint64_t faint_steps_ = 0;
 };
 
 }  // namespace cambio::control

@@ -575,11 +575,8 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
     // the eye has turned since (the frame may predate the turn): two frames' noise rarely agrees
     // on a disparity by chance. A periodic texture's alias can; the margin in the confidence
     // keeps such measurements weak, not absent, and the jump rule below still applies.
-    const double tolerance = kWeakAgreementRad + 0.1 * std::abs(error_rad);
     const bool agrees =
-        weak_pending_ &&
-        (std::abs(error_rad - weak_error_rad_) <= tolerance ||
-         std::abs(error_rad - (weak_error_rad_ - applied_since_weak_rad_)) <= tolerance);
+        weak_pending_ && readings_agree(error_rad, weak_error_rad_, applied_since_weak_rad_);
     weak_pending_ = true;
     weak_error_rad_ = error_rad;
     applied_since_weak_rad_ = 0.0;
@@ -654,6 +651,15 @@ void GazeLoop::verge(const perception::SsmSummary& summary) noexcept {
   ++corrections_;
 }
 
+bool GazeLoop::readings_agree(double error_rad, double earlier_error_rad,
+                              double applied_since_rad) noexcept {
+  // As the earlier reading stands, or less what the eye has turned since (the frame may predate
+  // the turn).
+  const double tolerance = kWeakAgreementRad + 0.1 * std::abs(error_rad);
+  return std::abs(error_rad - earlier_error_rad) <= tolerance ||
+         std::abs(error_rad - (earlier_error_rad - applied_since_rad)) <= tolerance;
+}
+
 bool GazeLoop::faint_reading_persists(double error_rad, double asked_rad) noexcept {
   // A surface verged on since the command is not left on faint evidence; near it, faint readings
   // still refine the vergence.
@@ -662,11 +668,8 @@ bool GazeLoop::faint_reading_persists(double error_rad, double asked_rad) noexce
     faint_agreements_ = 0;
     return false;
   }
-  const double tolerance = kWeakAgreementRad + 0.1 * std::abs(error_rad);
-  const bool agrees =
-      faint_agreements_ > 0 &&
-      (std::abs(error_rad - faint_error_rad_) <= tolerance ||
-       std::abs(error_rad - (faint_error_rad_ - applied_since_faint_rad_)) <= tolerance);
+  const bool agrees = faint_agreements_ > 0 &&
+                      readings_agree(error_rad, faint_error_rad_, applied_since_faint_rad_);
   faint_agreements_ = agrees ? faint_agreements_ + 1 : 1;
   faint_error_rad_ = error_rad;
   applied_since_faint_rad_ = 0.0;

@@ -220,6 +220,10 @@ class GazeLoop final : public hal::Loop {
   /// Whether a faint reading (below a third of min_confidence) is the kFaintAgreements-th in a
   /// row to agree, before anything has been verged on or near the anchor: then it is followed.
   bool faint_reading_persists(double error_rad, double asked_rad) noexcept;
+  /// Whether a reading agrees with an earlier one (kWeakAgreementRad plus a tenth of the error),
+  /// as it stood or less the vergence applied since.
+  static bool readings_agree(double error_rad, double earlier_error_rad,
+                             double applied_since_rad) noexcept;
   bool dominant_fovea_steady(const perception::SsmSummary& summary) const noexcept;
   /// Whether the verging eye's fovea may show new content since the previous frame: its motion
   /// not tracked to the finest level, or the previous frame, moved, not matching it. Its flow is

@@ -124,6 +124,29 @@ ScanRounds time_scan_rounds(const perception::SsmConfig& paper, const BenchStere
   return figures;
 }
 
+// The fixated region's zero-disparity filter, alternated round by round with the paper's SSM.
+RegionRounds time_region_rounds(const perception::SsmConfig& paper, const BenchStereoPair& pair,
+                                SsmRun& paper_run, int per_round) {
+  perception::ZeroDisparityFilter filter(paper.region);
+  perception::FixatedRegion region;
+  const perception::PixelPoint centre{pair.left.width_px / 2, pair.left.height_px / 2};
+  std::vector<double> paper_round_us;
+  std::vector<double> region_round_us;
+  std::vector<double> ratios;
+  for (int round = 0; round < kRounds; ++round) {
+    const double paper_us = median_us(per_round, [&] { (void)paper_run.run(); });
+    const double region_us = median_us(per_round, [&] {
+      filter.find(pair.left, centre, pair.right, centre, region);
+      asm volatile("" : : "r"(&region) : "memory");
+    });
+    paper_round_us.push_back(paper_us);
+    region_round_us.push_back(region_us);
+    ratios.push_back(region_us / paper_us);
+  }
+  return {median_of(region_round_us), median_of(paper_round_us), median_of(ratios),
+          paper.region.cells};
+}
+
 }  // namespace
 
 int run_perception_bench(const PerceptionBenchOptions& options) {
@@ -146,6 +169,7 @@ int run_perception_bench(const PerceptionBenchOptions& options) {
   SsmRun paper_on_stripes(configs.paper, stripes.left, stripes.right);
   figures.widest_window_rounds =
       time_scan_rounds(configs.paper, stripes, paper_on_stripes, per_round);
+  figures.region_rounds = time_region_rounds(configs.paper, pair, paper_run, per_round);
   figures.opencv_filter_us = time_full_image_filter(configs.paper.operators, pair.left, pair.right,
                                                     std::max(5, repeats / 5));
   figures.stereo_bm_us = time_stereo_bm(pair.left, pair.right, std::max(5, repeats / 5));

@@ -93,6 +93,12 @@ void print_perception_bench_json(const PerceptionBenchFigures& figures) {
       {"ssm_paper_scan_widest_window_disparity_part_us",
        as_printed(widest.disparity_part_us, "%.2f")},
       {"ssm_paper_scan_widest_window_tier", widest.window_tier},
+      // The fixated region (zero-disparity filter), asked for while fixating and pursuing.
+      {"fixated_region_us", as_printed(figures.region_rounds.region_us, "%.2f")},
+      {"ssm_paper_in_region_rounds_us", as_printed(figures.region_rounds.paper_us, "%.2f")},
+      {"fixated_region_over_ssm_paper",
+       as_printed(figures.region_rounds.region_over_paper, "%.2f")},
+      {"fixated_region_cells", figures.region_rounds.cells},
       {"true_disparity_px", kBenchPairDisparityPx}};
   std::cout << json_text(json);
 }
@@ -122,6 +128,11 @@ void print_perception_bench_table(const PerceptionBenchFigures& figures) {
       "the paper SSM on them)\n",
       figures.widest_window_rounds.scan_us, figures.widest_window_rounds.window_tier,
       figures.widest_window_rounds.scan_over_paper);
+  std::printf(
+      "  fixated region (ZDF)        %10.1f us   (%d x %d cells; %.2fx the paper SSM, median of %d "
+      "alternating rounds)\n",
+      figures.region_rounds.region_us, figures.region_rounds.cells, figures.region_rounds.cells,
+      figures.region_rounds.region_over_paper, figures.rounds);
   std::printf("  memcpy of both images       %10.1f us   (median of %d rounds)\n",
               figures.memcpy_rounds.memcpy_us, figures.rounds);
   std::printf("  OpenCV full-image filters   %10.1f us   (same operator set, cv::sepFilter2D)\n",

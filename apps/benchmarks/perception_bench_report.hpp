@@ -37,6 +37,15 @@ struct ScanRounds {
   int window_tier = -1;          ///< The scan's deciding window on the last frame.
 };
 
+/// The fixated object's region (the zero-disparity filter, which pursuit asks for) alternated
+/// with the paper's SSM in rounds: what asking for it adds to a frame.
+struct RegionRounds {
+  double region_us = 0;          ///< Median of the rounds' medians.
+  double paper_us = 0;           ///< The paper's SSM, median of the rounds' medians.
+  double region_over_paper = 0;  ///< Median of the rounds' ratios.
+  int cells = 0;                 ///< Cells searched (cells x cells).
+};
+
 struct PerceptionBenchFigures {
   int repeats = 0;
   int rounds = 0;  ///< Rounds of each alternated comparison.
@@ -46,6 +55,7 @@ struct PerceptionBenchFigures {
   /// The same on horizontal stripes, where no window decides before the widest: the scan's
   /// worst case.
   ScanRounds widest_window_rounds;
+  RegionRounds region_rounds;
   double opencv_filter_us = 0;  ///< The SSM's operator set on both whole images.
   double stereo_bm_us = 0;      ///< cv::StereoBM on the whole pair.
 };

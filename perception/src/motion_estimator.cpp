@@ -127,6 +127,8 @@ bool MotionEstimator::track_level(const Frame& now, const Frame& before, int k, 
     const double min_eigen = 0.5 * (trace - root);
     const double max_eigen = 0.5 * (trace + root);
     result.min_eigenvalue = static_cast<float>(min_eigen / n);
+    result.max_eigenvalue = static_cast<float>(max_eigen / n);
+    result.gradient_orientation_rad = static_cast<float>(0.5 * std::atan2(2.0 * a12, a11 - a22));
     result.residual_rms = static_cast<float>(std::sqrt(rr / n));
     result.iterations = iteration + 1;
     if (max_eigen / n < config_.min_eigenvalue) return false;
@@ -176,12 +178,24 @@ void MotionEstimator::estimate(const Retina& retina, MotionResult& out, float* t
                       &out.per_level);
     retry_fine_levels_from_last_flow(now, before, out);
   }
+  classify_structure(out);
   have_fovea_flow_ = !out.fixation_changed && out.valid && out.level <= 1;
   if (have_fovea_flow_) {
     fovea_flow_x_ = out.flow_x_px;
     fovea_flow_y_ = out.flow_y_px;
   }
   track_key(now, out, out);
+}
+
+void MotionEstimator::classify_structure(MotionResult& out) const noexcept {
+  if (!out.valid || out.level < 0 || out.level >= levels_ - 1) return;
+  for (int k = 0; k < levels_ - 1; ++k) {
+    const LevelMotion& level = out.per_level[static_cast<std::size_t>(k)];
+    if (level.valid && level.min_eigenvalue >= kOneDirectionalRatio * level.max_eigenvalue) return;
+  }
+  out.one_directional = true;
+  out.gradient_orientation_rad =
+      out.per_level[static_cast<std::size_t>(out.level)].gradient_orientation_rad;
 }
 
 void MotionEstimator::retry_fine_levels_from_last_flow(const Frame& now, const Frame& before,

@@ -186,6 +186,24 @@ SsmConfig read_ssm_config(config::MapReader& root) {
     m.threshold = reader->number_or("threshold", m.threshold);
     reader->finish();
   }
+  if (auto reader = root.optional_map("region")) {
+    FixatedRegionConfig& r = config.region;
+    r.enabled = reader->boolean_or("enabled", true);
+    r.cell_px =
+        static_cast<int>(reader->integer_or("cell_px", r.cell_px, config::Range::closed(2, 64)));
+    r.cells = static_cast<int>(reader->integer_or("cells", r.cells, config::Range::closed(3, 128)));
+    r.max_disparity_px = static_cast<int>(
+        reader->integer_or("max_disparity_px", r.max_disparity_px, config::Range::closed(0, 16)));
+    r.min_correlation =
+        reader->number_or("min_correlation", r.min_correlation, config::Range::closed(-1.0, 1.0));
+    r.min_texture_grey =
+        reader->number_or("min_texture_grey", r.min_texture_grey, config::Range::non_negative());
+    r.seed_radius_cells = static_cast<int>(
+        reader->integer_or("seed_radius_cells", r.seed_radius_cells, config::Range::closed(0, 64)));
+    r.min_cells = static_cast<int>(
+        reader->integer_or("min_cells", r.min_cells, config::Range::closed(1, 16384)));
+    reader->finish();
+  }
   root.finish();
   return config;
 }

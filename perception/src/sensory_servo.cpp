@@ -21,7 +21,8 @@ SensoryServo::SensoryServo(const SsmConfig& config, int image_width_px, int imag
       image_width_(image_width_px),
       image_height_(image_height_px),
       bank_(config.operators, config.retina.width_px, config.retina.height_px),
-      disparity_(config.disparity, bank_, config.retina.width_px, config.retina.height_px) {
+      disparity_(config.disparity, bank_, config.retina.width_px, config.retina.height_px),
+      region_(config.region) {
   if (image_width_px <= 0 || image_height_px <= 0) {
     throw std::invalid_argument("the SSM needs a positive image size");
   }
@@ -174,13 +175,20 @@ hal::Status SensoryServo::process(const hal::Image& left, const hal::Image& righ
                           retinas_[eye]->level(k), config_.moments.mode, config_.moments.threshold);
     }
   }
+  const auto moments_done = SteadyClock::now();
+
+  summary.region = FixatedRegion{};
+  if (request.region && config_.region.enabled) {
+    region_.find(left, left_fixation, right, right_fixation, summary.region);
+  }
   const auto end = SteadyClock::now();
   summary.timings = {microseconds_since(start, retinas_done),
                      microseconds_since(retinas_done, features_done),
                      microseconds_since(features_done, disparity_done),
                      microseconds_since(disparity_done, motion_done),
-                     microseconds_since(motion_done, end),
-                     microseconds_since(start, end)};
+                     microseconds_since(motion_done, moments_done),
+                     microseconds_since(start, end),
+                     microseconds_since(moments_done, end)};
   return hal::Status::kOk;
 }
 

@@ -191,6 +191,18 @@ TEST(Motion, StripesMovingAlongThemselvesGiveTheAcrossComponentAndNoAlongMotion)
   ASSERT_TRUE(result.valid);
   EXPECT_NEAR(result.flow_x_px, 1.2, 0.1);
   EXPECT_NEAR(result.flow_y_px, 0.0, 0.05);
+  // Every level below the field sees the stripes only: the result says the flow is measured
+  // along x (the stripes' gradient) and not across it.
+  EXPECT_TRUE(result.one_directional);
+  EXPECT_NEAR(std::abs(std::cos(result.gradient_orientation_rad)), 1.0, 1e-3);
+}
+
+TEST(Motion, ATexturedFoveaIsMeasuredBothWays) {
+  for (const unsigned seed : {3u, 4u, 5u}) {
+    const MotionResult result = track(1.5, -1.0, 16, seed);
+    ASSERT_TRUE(result.valid);
+    EXPECT_FALSE(result.one_directional) << "seed " << seed;
+  }
 }
 
 TEST(Motion, APursuedTargetKeepsItsOwnMotionWhileTheBackgroundSweepsPast) {

@@ -40,6 +40,25 @@ TEST(PerceptionConfig, ShippedFileIsTheDefaults) {
   EXPECT_EQ(loaded.motion.iterations, defaults.motion.iterations);
   EXPECT_EQ(loaded.moments.map, defaults.moments.map);
   EXPECT_EQ(loaded.moments.mode, defaults.moments.mode);
+  EXPECT_EQ(loaded.region.cells, defaults.region.cells);
+  EXPECT_EQ(loaded.region.cell_px, defaults.region.cell_px);
+  EXPECT_EQ(loaded.region.max_disparity_px, defaults.region.max_disparity_px);
+  EXPECT_EQ(loaded.region.min_correlation, defaults.region.min_correlation);
+}
+
+TEST(PerceptionConfig, TheFixatedRegionsSettingsAreReadAndCheckedByName) {
+  const SsmConfig c = from_text("region: {cells: 24, cell_px: 6, max_disparity_px: 3}\n");
+  EXPECT_EQ(c.region.cells, 24);
+  EXPECT_EQ(c.region.cell_px, 6);
+  EXPECT_EQ(c.region.max_disparity_px, 3);
+  try {
+    from_text("region: {cells: 1, min_correlation: 1.5}\n");
+    FAIL() << "a one-cell window and a correlation above 1 were accepted";
+  } catch (const config::ConfigError& error) {
+    const std::string text = all_messages(error);
+    EXPECT_NE(text.find("region.cells"), std::string::npos) << text;
+    EXPECT_NE(text.find("region.min_correlation"), std::string::npos) << text;
+  }
 }
 
 TEST(PerceptionConfig, ReadsMasksAndOverrides) {

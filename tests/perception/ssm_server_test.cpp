@@ -66,6 +66,9 @@ TEST(SsmServer, PublishesDisparityMotionAndMapsWithoutAllocatingPerFrame) {
   TextureCamera right("right", 2.5);
   StereoRig rig(left, right);
   SsmServer& server = rig.server;
+  SsmRequest request;
+  request.features.region = true;  // Every feature, the fixated region too.
+  server.requests().write(request);
   hal::LoopTick tick;
   ASSERT_EQ(rig.cycle(tick), hal::Status::kOk);  // First frame: motion has no history yet.
 
@@ -89,6 +92,7 @@ TEST(SsmServer, PublishesDisparityMotionAndMapsWithoutAllocatingPerFrame) {
               std::abs(summary.motion[0].flow_x_px + 3.0f) < 0.15f)
       << summary.motion[0].flow_x_px;
   EXPECT_EQ(summary.fixation[0].x, 160);
+  EXPECT_GT(summary.timings.region_us, 0.0);
 
   ASSERT_TRUE(server.frames().acquire());
   const SsmFrame& frame = server.frames().front();

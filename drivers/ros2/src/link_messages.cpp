@@ -34,10 +34,17 @@ perception::LevelDisparity from_message(const cambio_msgs_msg_dds__LevelDisparit
 }
 
 cambio_msgs_msg_dds__LevelMotion_ to_message(const perception::LevelMotion& in) {
-  return {in.valid, in.flow_x_px, in.flow_y_px, in.min_eigenvalue, in.residual_rms, in.iterations};
+  return {in.valid,        in.flow_x_px,  in.flow_y_px,      in.min_eigenvalue,
+          in.residual_rms, in.iterations, in.max_eigenvalue, in.gradient_orientation_rad};
 }
 perception::LevelMotion from_message(const cambio_msgs_msg_dds__LevelMotion_& in) {
-  return {in.valid, in.flow_x_px, in.flow_y_px, in.min_eigenvalue, in.residual_rms, in.iterations};
+  return {in.valid,        in.flow_x_px,  in.flow_y_px,      in.min_eigenvalue,
+          in.residual_rms, in.iterations, in.max_eigenvalue, in.gradient_orientation_rad};
+}
+
+cambio_msgs_msg_dds__FixatedRegion_ to_message(const perception::FixatedRegion& in) {
+  return {in.valid,   in.clipped,  in.cells,  in.centroid_x_px, in.centroid_y_px,
+          in.left_px, in.right_px, in.top_px, in.bottom_px};
 }
 
 bool finite_in(double value, double low, double high) {
@@ -97,15 +104,24 @@ const cambio_msgs_msg_dds__SsmSummary_& SsmSummaryMessage::fill(
   for (std::size_t eye = 0; eye < 2; ++eye) {
     const perception::MotionResult& in = summary.motion[eye];
     for (std::size_t k = 0; k < levels; ++k) motion_levels_[eye][k] = to_message(in.per_level[k]);
-    m.motion[eye] = {in.valid,         in.fixation_changed,
-                     in.flow_x_px,     in.flow_y_px,
-                     in.level,         {levels, levels, motion_levels_[eye].data(), false},
-                     in.key_valid,     in.key_flow_x_px,
-                     in.key_flow_y_px, in.frame,
-                     in.key_frame};
+    m.motion[eye] = {in.valid,
+                     in.fixation_changed,
+                     in.flow_x_px,
+                     in.flow_y_px,
+                     in.level,
+                     {levels, levels, motion_levels_[eye].data(), false},
+                     in.key_valid,
+                     in.key_flow_x_px,
+                     in.key_flow_y_px,
+                     in.frame,
+                     in.key_frame,
+                     in.one_directional,
+                     in.gradient_orientation_rad};
   }
   const perception::SsmTimings& t = summary.timings;
-  m.timings = {t.retina_us, t.features_us, t.disparity_us, t.motion_us, t.moments_us, t.total_us};
+  m.timings = {t.retina_us,  t.features_us, t.disparity_us, t.motion_us,
+               t.moments_us, t.total_us,    t.region_us};
+  m.region = to_message(summary.region);
   return m;
 }
 
@@ -152,8 +168,9 @@ std::string summary_from_message(const cambio_msgs_msg_dds__SsmSummary_& m,
       return "motion levels out of range";
     }
     if (!std::isfinite(in.flow_x_px) || !std::isfinite(in.flow_y_px) ||
-        !std::isfinite(in.key_flow_x_px) || !std::isfinite(in.key_flow_y_px)) {
-      return "an image motion that is not a finite number";
+        !std::isfinite(in.key_flow_x_px) || !std::isfinite(in.key_flow_y_px) ||
+        !std::isfinite(in.gradient_orientation_rad)) {
+      return "an image motion or gradient orientation that is not a finite number";
     }
     motion.valid = in.valid;
     motion.fixation_changed = in.fixation_changed;
@@ -165,9 +182,22 @@ std::string summary_from_message(const cambio_msgs_msg_dds__SsmSummary_& m,
     motion.key_flow_y_px = in.key_flow_y_px;
     motion.frame = in.frame;
     motion.key_frame = in.key_frame;
+    motion.one_directional = in.one_directional;
+    motion.gradient_orientation_rad = in.gradient_orientation_rad;
   }
   const cambio_msgs_msg_dds__SsmTimings_& t = m.timings;
-  out.timings = {t.retina_us, t.features_us, t.disparity_us, t.motion_us, t.moments_us, t.total_us};
+  out.timings = {t.retina_us,  t.features_us, t.disparity_us, t.motion_us,
+                 t.moments_us, t.total_us,    t.region_us};
+  const cambio_msgs_msg_dds__FixatedRegion_& r = m.region;
+  if (r.valid &&
+      (r.cells <= 0 || !std::isfinite(r.centroid_x_px) || !std::isfinite(r.centroid_y_px) ||
+       !std::isfinite(r.left_px) || !std::isfinite(r.right_px) || !std::isfinite(r.top_px) ||
+       !std::isfinite(r.bottom_px))) {
+    return "a fixated region of " + std::to_string(r.cells) +
+           " cells whose centre or bounds are not finite numbers";
+  }
+  out.region = {r.valid,   r.clipped,  r.cells,  r.centroid_x_px, r.centroid_y_px,
+                r.left_px, r.right_px, r.top_px, r.bottom_px};
   return "";
 }
 
@@ -185,6 +215,7 @@ cambio_msgs_msg_dds__SsmRequest_ request_message(const perception::SsmRequest& r
   m.disparity = request.features.disparity;
   m.motion = request.features.motion;
   m.moments = request.features.moments;
+  m.region = request.features.region;
   return m;
 }
 
@@ -211,6 +242,7 @@ std::string request_from_message(const cambio_msgs_msg_dds__SsmRequest_& m,
   out.features.disparity = m.disparity;
   out.features.motion = m.motion;
   out.features.moments = m.moments;
+  out.features.region = m.region;
   return "";
 }
 

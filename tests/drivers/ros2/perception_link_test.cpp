@@ -312,16 +312,20 @@ TEST_F(PerceptionLinkTest, MalformedResultsAreRefusedAndCountedNeverUsed) {
   confidence_beyond_one.disparity.confidence = 2.0f;
   cambio_msgs_msg_dds__SsmSummary_ infinite_flow = message();
   infinite_flow.motion[1].key_flow_x_px = INFINITY;
+  cambio_msgs_msg_dds__SsmSummary_ nan_region = message();
+  nan_region.region.valid = true;
+  nan_region.region.cells = 40;
+  nan_region.region.centroid_x_px = std::nanf("");
   std::array<cambio_msgs_msg_dds__Moments_, 6> moments{};
   cambio_msgs_msg_dds__SsmSummary_ moments_beyond_levels = message();
   moments_beyond_levels.left_moments = {6, 6, moments.data(), false};
   for (const auto* bad : {&nan_disparity, &too_many_levels, &confidence_beyond_one, &infinite_flow,
-                          &moments_beyond_levels}) {
+                          &nan_region, &moments_beyond_levels}) {
     ASSERT_EQ(dds_write(writer, bad), DDS_RETCODE_OK);
   }
-  ASSERT_TRUE(wait_until([&] { return link_->counts().results_received >= 5; }, 10.0));
+  ASSERT_TRUE(wait_until([&] { return link_->counts().results_received >= 6; }, 10.0));
   const RobotPerceptionLinkCounts counts = link_->counts();
-  EXPECT_EQ(counts.results_malformed, 5u);
+  EXPECT_EQ(counts.results_malformed, 6u);
   EXPECT_EQ(counts.results_used, 0u);
   EXPECT_EQ(results_.version(), 0u) << "a malformed result reached the gaze loop's channel";
   EXPECT_NE(counts.last_malformed.find("levels"), std::string::npos) << counts.last_malformed;
@@ -394,6 +398,29 @@ TEST_F(PerceptionLinkTest, TheNodeRefusesMalformedImagesAndRequestsAndKeepsServi
   EXPECT_NEAR(result->disparity.disparity_px, kShiftPx, 0.25);
 }
 
+TEST(LinkMessages, ARequestCrossesWithEveryFeatureFlag) {
+  perception::SsmRequest in;
+  in.fixation_set = true;
+  in.fixation = {perception::PixelPoint{300, 200}, perception::PixelPoint{310, 201}};
+  in.features.maps = 0b1011;
+  in.features.disparity = false;
+  in.features.motion = true;
+  in.features.moments = false;
+  in.features.region = true;
+  hal::CameraIntrinsics image;
+  image.width_px = 640;
+  image.height_px = 480;
+  perception::SsmRequest out;
+  ASSERT_EQ(request_from_message(request_message(in, to_ros_time(0)), image, out), "");
+  EXPECT_TRUE(out.fixation_set);
+  EXPECT_EQ(out.fixation[1].x, 310);
+  EXPECT_EQ(out.features.maps, in.features.maps);
+  EXPECT_FALSE(out.features.disparity);
+  EXPECT_TRUE(out.features.motion);
+  EXPECT_FALSE(out.features.moments);
+  EXPECT_TRUE(out.features.region);
+}
+
 TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
   perception::SsmSummary in;
   in.sequence = 41;
@@ -406,7 +433,8 @@ TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
       in.geometry[eye][k] = {1 << k, static_cast<int>(eye * 10 + k), -static_cast<int>(k), value};
       in.moments[eye][k] = {true,      value,     value + 1, value + 2, value + 3,
                             value + 4, value + 5, 0.25,      0.5};
-      in.motion[eye].per_level[k] = {true, value, -value, value * 2, value * 3, 3};
+      in.motion[eye].per_level[k] = {true,      value, -value,    value * 2,
+                                     value * 3, 3,     value * 4, -value};
       value += 0.25f;
     }
     in.motion[eye].valid = true;
@@ -419,7 +447,10 @@ TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
     in.motion[eye].key_flow_y_px = -0.75f;
     in.motion[eye].frame = 99;
     in.motion[eye].key_frame = 90;
+    in.motion[eye].one_directional = eye == 0;
+    in.motion[eye].gradient_orientation_rad = 1.25f;
   }
+  in.region = {true, true, 57, 12.5f, -3.25f, -40.0f, 48.0f, -24.0f, 16.0f};
   in.disparity.valid = true;
   in.disparity.disparity_px = -12.375f;
   in.disparity.confidence = 0.875f;
@@ -442,7 +473,7 @@ TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
                                  20,
                                  static_cast<int>(k)};
   }
-  in.timings = {1, 2, 3, 4, 5, 15};
+  in.timings = {1, 2, 3, 4, 5, 15, 0.5};
 
   SsmSummaryMessage message("left_eye_optical_frame");
   const std::int64_t offset_ns = 1'000'000'000;
@@ -463,7 +494,13 @@ TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
       EXPECT_EQ(out.motion[eye].per_level[k].residual_rms,
                 in.motion[eye].per_level[k].residual_rms);
       EXPECT_EQ(out.motion[eye].per_level[k].iterations, 3);
+      EXPECT_EQ(out.motion[eye].per_level[k].max_eigenvalue,
+                in.motion[eye].per_level[k].max_eigenvalue);
+      EXPECT_EQ(out.motion[eye].per_level[k].gradient_orientation_rad,
+                in.motion[eye].per_level[k].gradient_orientation_rad);
     }
+    EXPECT_EQ(out.motion[eye].one_directional, eye == 0);
+    EXPECT_EQ(out.motion[eye].gradient_orientation_rad, 1.25f);
     EXPECT_EQ(out.motion[eye].fixation_changed, eye == 1);
     EXPECT_EQ(out.motion[eye].key_flow_x_px, 4.25f);
     EXPECT_EQ(out.motion[eye].key_frame, 90u);
@@ -479,6 +516,14 @@ TEST(LinkMessages, ASummaryCrossesEveryFieldIntact) {
     EXPECT_EQ(out.disparity.per_level[k].moved_windows, static_cast<int>(k));
   }
   EXPECT_EQ(out.timings.total_us, 15.0);
+  EXPECT_EQ(out.timings.region_us, 0.5);
+  EXPECT_TRUE(out.region.valid);
+  EXPECT_TRUE(out.region.clipped);
+  EXPECT_EQ(out.region.cells, 57);
+  EXPECT_EQ(out.region.centroid_x_px, 12.5f);
+  EXPECT_EQ(out.region.centroid_y_px, -3.25f);
+  EXPECT_EQ(out.region.left_px, -40.0f);
+  EXPECT_EQ(out.region.bottom_px, 16.0f);
 }
 
 }  // namespace

@@ -17,6 +17,11 @@ struct LevelMotion {
   float min_eigenvalue = 0.0f;  ///< Of the per-pixel structure tensor (grey^2 / level px^2).
   float residual_rms = 0.0f;    ///< Grey levels after the last warp.
   int iterations = 0;
+  float max_eigenvalue = 0.0f;
+  /// The direction of the strongest gradient (the larger eigenvalue's), from +x towards +y, in
+  /// (-pi/2, pi/2]. With min_eigenvalue far below max_eigenvalue (stripes, one edge: the
+  /// aperture problem) only the flow along it is measured; across it the estimate is the prior.
+  float gradient_orientation_rad = 0.0f;
 };
 
 /// Motion of one eye between its previous and current retina (paper Section 3: "motion features
@@ -34,6 +39,12 @@ struct MotionResult {
   bool key_valid = false;
   float key_flow_x_px = 0.0f;
   float key_flow_y_px = 0.0f;
+  /// Every level below the coarsest that gave an estimate saw structure in one direction only
+  /// (stripes, or one edge, filling the window: the aperture problem): the flow is measured
+  /// along `gradient_orientation_rad` (the finest level's strongest gradient, from +x towards
+  /// +y) and, across it, is the coarsest level's, whose window is mostly the surround.
+  bool one_directional = false;
+  float gradient_orientation_rad = 0.0f;
   std::uint64_t frame = 0;      ///< This frame's number (frames the estimator has consumed).
   std::uint64_t key_frame = 0;  ///< The number of the frame key_flow is measured from.
 };
@@ -61,6 +72,9 @@ class MotionEstimator {
   /// content matched one period off on a periodic texture (checkers: 3-8 px jumps), and would
   /// move a pursued target's position by that much. Such a key is not valid and is renewed.
   static constexpr double kMaxKeyCorrectionPx = 2.0;
+  /// A level whose structure tensor's smaller eigenvalue is below this fraction of the larger
+  /// sees one direction only (stripes score below 0.005; a textured fovea rarely below 0.03).
+  static constexpr double kOneDirectionalRatio = 0.01;
 
  private:
   struct Frame {
@@ -85,6 +99,8 @@ class MotionEstimator {
   /// only when the retry reaches a finer level.
   void retry_fine_levels_from_last_flow(const Frame& now, const Frame& before,
                                         MotionResult& out) noexcept;
+  /// Sets out.one_directional and its orientation from the levels' structure.
+  void classify_structure(MotionResult& out) const noexcept;
   /// The displacement since the key frame, then whether `now` becomes the next key.
   void track_key(const Frame& now, const MotionResult& frame_to_frame, MotionResult& out) noexcept;
   bool track_level(const Frame& now, const Frame& before, int k, float& ux, float& uy,

@@ -91,6 +91,19 @@ struct MomentsConfig {
   double threshold = 128.0;
 };
 
+/// The fixated object's region (ZeroDisparityFilter), computed only when a consumer asks for it
+/// (pursuit does).
+struct FixatedRegionConfig {
+  bool enabled = true;
+  int cell_px = 8;           ///< Side of a cell, image px.
+  int cells = 32;            ///< Cells per side of the searched window, centred on the fixation.
+  int max_disparity_px = 2;  ///< Shifts tried either way: a fixated surface's own relief.
+  double min_correlation = 0.8;
+  double min_texture_grey = 3.0;  ///< A cell's grey-level standard deviation below this is flat.
+  int seed_radius_cells = 2;      ///< How far from the fixation the region's first cell may be.
+  int min_cells = 4;
+};
+
 /// Everything the Sensory Servo Module needs; const after load.
 struct SsmConfig {
   double rate_hz = 30.0;
@@ -99,6 +112,7 @@ struct SsmConfig {
   DisparityConfig disparity;
   MotionConfig motion;
   MomentsConfig moments;
+  FixatedRegionConfig region;
 };
 
 /// Reads an SSM config map (the root of firmware_config/perception/ssm.yaml). Missing keys take

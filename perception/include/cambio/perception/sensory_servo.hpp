@@ -10,6 +10,7 @@
 #include "cambio/hal/status.hpp"
 #include "cambio/perception/disparity_estimator.hpp"
 #include "cambio/perception/feature_maps.hpp"
+#include "cambio/perception/fixated_region.hpp"
 #include "cambio/perception/moments.hpp"
 #include "cambio/perception/motion_estimator.hpp"
 #include "cambio/perception/operator_bank.hpp"
@@ -24,6 +25,9 @@ struct FeatureRequest {
   bool disparity = true;
   bool motion = true;
   bool moments = true;
+  /// The fixated object's region (ZeroDisparityFilter): off unless asked for, it reads the
+  /// source images around the fixation rather than the retina.
+  bool region = false;
 };
 
 /// Where a level's samples lie in the source image.
@@ -41,6 +45,7 @@ struct SsmTimings {
   double motion_us = 0.0;
   double moments_us = 0.0;
   double total_us = 0.0;
+  double region_us = 0.0;  ///< Part of total_us; 0 when the region was not asked for.
 };
 
 /// The small, trivially copyable part of a result (fits a SeqlockChannel).
@@ -53,6 +58,7 @@ struct SsmSummary {
   DisparityResult disparity;
   std::array<MotionResult, 2> motion{};
   std::array<std::array<Moments, Retina::kMaxLevels>, 2> moments{};
+  FixatedRegion region;
   SsmTimings timings;
 };
 
@@ -67,7 +73,8 @@ struct SsmFrame {
 
 /// The Sensory Servo Module's per-frame pipeline (paper Section 4): for each eye a retina at its
 /// fixation point, the requested operators on every level, then disparity between the eyes,
-/// motion against the previous frame, and moments. Everything is allocated by the constructor;
+/// motion against the previous frame, moments, and when asked the fixated object's region.
+/// Everything is allocated by the constructor;
 /// process() never allocates. Not thread-safe.
 class SensoryServo {
  public:
@@ -139,6 +146,7 @@ class SensoryServo {
   std::uint64_t sequence_ = 0;
   std::unique_ptr<ShiftedRight> shifted_right_;
   std::unique_ptr<DisparityScan> scan_;  ///< Off unless disparity.scan_range_px > 0.
+  ZeroDisparityFilter region_;
   DisparityScanResult scan_result_;
 };
 

@@ -69,6 +69,7 @@ void MainJob::collect(MainJobResult& result) {
     result.gaze_occlusion_rejections = gaze_loop_->occlusion_rejections();
     result.gaze_doubtful_departures = gaze_loop_->doubtful_departures();
     result.gaze_faint_steps = gaze_loop_->faint_steps();
+    result.gaze_pursuit_region_frames = gaze_loop_->pursuit_region_frames();
     result.gaze_anchor_returns = gaze_loop_->anchor_returns();
     result.gaze_reanchors = gaze_loop_->reanchors();
     result.gaze_false_anchors = gaze_loop_->false_anchors();

@@ -78,6 +78,7 @@ struct MainJobResult {
   std::uint64_t gaze_occlusion_rejections = 0;
   std::uint64_t gaze_doubtful_departures = 0;
   std::uint64_t gaze_faint_steps = 0;
+  std::uint64_t gaze_pursuit_region_frames = 0;
   std::uint64_t gaze_anchor_returns = 0;
   std::uint64_t gaze_reanchors = 0;
   std::uint64_t gaze_false_anchors = 0;

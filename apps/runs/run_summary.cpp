@@ -68,6 +68,9 @@ Json gaze_json(const MainJobResult& result) {
           // Corrections on readings too faint to count, followed because GazeLoop::kFaintAgreements
           // of them in a row agreed before anything was verged on.
           {"vergence_faint_steps", result.gaze_faint_steps},
+          // Pursuit frames whose fovea saw the target's motion one way only (stripes along it),
+          // placed across it by the centre of the fixated object's zero-disparity region.
+          {"pursuit_region_frames", result.gaze_pursuit_region_frames},
           {"final_action", gaze_action_name(gaze.action)},
           {"final_vergence_rad", gaze.vergence_rad}};
 }

@@ -160,12 +160,15 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     perception::FeatureRequest extra;
     if (extra_features_channel_->read(extra) &&
         (extra.maps != extra_features_.maps || extra.disparity != extra_features_.disparity ||
-         extra.motion != extra_features_.motion || extra.moments != extra_features_.moments)) {
+         extra.motion != extra_features_.motion || extra.moments != extra_features_.moments ||
+         extra.region != extra_features_.region)) {
       extra_features_ = extra;
       request_features();
     }
   }
 
+  // A mode changed without a command (a saccade's end) changes what the SSM must compute.
+  if (request_.features.region != wants_region()) request_features();
   (void)summaries_.read(summary_);  // A torn read keeps the last clean summary.
   status_.joints_held = tracking == CommandTracking::Step::kFrozen;
   switch (tracking) {
@@ -216,7 +219,8 @@ hal::Status GazeLoop::update(const hal::LoopTick& tick) noexcept {
     case Mode::kPursue: {
       if (new_summary) {
         pursuit_.update(summary_.motion[static_cast<std::size_t>(dominant_)],
-                        R_WC_at(summary_.stamp_ns), summary_.stamp_ns);
+                        R_WC_at(summary_.stamp_ns), summary_.stamp_ns, summary_.region,
+                        summary_.fixation[static_cast<std::size_t>(dominant_)]);
       }
       // Extrapolated by the law's lag, so a steadily moving target is followed without it.
       const double lead_s = params_.pursuit_lead / params_.pursuit_gain_per_s;
@@ -374,7 +378,9 @@ void GazeLoop::apply(const GazeCommand& command, std::int64_t now_ns) noexcept {
       const Eigen::Isometry3d& X_WC =
           believed_kinematics_.X_WF(head_.camera_frame[static_cast<std::size_t>(dominant_)]);
       pursuit_depth_m_ = depth_estimate_m();
-      pursuit_.start(X_WC.linear().col(2), X_WC.linear(), now_ns);
+      // The last frame's region was seen while the eyes fixated the target now pursued.
+      pursuit_.start(X_WC.linear().col(2), X_WC.linear(), now_ns, summary_.region,
+                     summary_.fixation[static_cast<std::size_t>(dominant_)]);
       target_W_ << X_WC.translation() + pursuit_depth_m_ * X_WC.linear().col(2), 1.0;
       target_set_ = true;
       mode_ = Mode::kPursue;
@@ -834,6 +840,8 @@ void GazeLoop::request_features() noexcept {
   // a change of the fixated surface by whether the dominant fovea moved.
   request_.features.motion = true;
   request_.features.moments = extra_features_.moments;
+  // The fixated object's region while fixating too: pursuit starts from the last one seen there.
+  request_.features.region = wants_region();
   ssm_requests_.write(request_);
 }
 

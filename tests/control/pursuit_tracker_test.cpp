@@ -98,5 +98,67 @@ TEST(PursuitTracker, AFlowTheTargetCouldNotHaveMadeIsNotFollowed) {
   EXPECT_GT(tracker.angular_velocity_W().y(), 0.0);
 }
 
+/// Frame n (1-based) of a still camera fixed on a target moving kSpeedPxPerFrame to the right
+/// that the fovea sees as horizontal stripes: the motion reads no x at all (one-directional, the
+/// gradient along y), while the fixated region's centre, `offset_px` right of the fixated point,
+/// moves with the target.
+void stripes_frame(int n, double offset_px, perception::MotionResult& motion,
+                   perception::FixatedRegion& region) {
+  motion = perception::MotionResult{};
+  motion.frame = static_cast<std::uint64_t>(n);
+  motion.valid = n > 1;
+  motion.level = 0;
+  motion.one_directional = true;
+  motion.gradient_orientation_rad = static_cast<float>(0.5 * 3.141592653589793);
+  region = perception::FixatedRegion{};
+  region.valid = true;
+  region.cells = 60;
+  region.centroid_x_px = static_cast<float>(offset_px + kSpeedPxPerFrame * (n - 1));
+}
+
+double tracked_stripes_x_px(bool with_region) {
+  PursuitTracker tracker(intrinsics(), 0.1);
+  const Eigen::Matrix3d R_WC = Eigen::Matrix3d::Identity();
+  constexpr double kOffsetPx = 12.0;
+  perception::MotionResult motion;
+  perception::FixatedRegion region;
+  stripes_frame(1, kOffsetPx, motion, region);
+  // Started where the region was seen with the target on the axis.
+  tracker.start(Eigen::Vector3d::UnitZ(), R_WC, 0, region, {0, 0});
+  constexpr int kFrames = 40;
+  for (int n = 1; n <= kFrames; ++n) {
+    stripes_frame(n, kOffsetPx, motion, region);
+    if (!with_region) region.valid = false;
+    tracker.update(motion, R_WC, n * kFramePeriodNs, region, {0, 0});
+  }
+  const Eigen::Vector3d d = tracker.direction_W(kFrames * kFramePeriodNs);
+  return kFocalPx * d.x() / d.z();
+}
+
+TEST(PursuitTracker, AcrossStripesTheFixatedRegionPlacesTheTarget) {
+  const double truth_px = kSpeedPxPerFrame * 39;
+  // Motion alone says the target has not moved: the tracker stays (the old lag).
+  EXPECT_NEAR(tracked_stripes_x_px(false), 0.0, 1e-6);
+  // The region's centre, held at its offset from the target, brings it along.
+  EXPECT_NEAR(tracked_stripes_x_px(true), truth_px, 0.1 * truth_px);
+}
+
+TEST(PursuitTracker, WhereTheFoveaSeesBothWaysTheRegionIsNotUsed) {
+  // A textured fovea measures the motion; a region 30 px off changes nothing.
+  PursuitTracker tracker(intrinsics(), 0.1);
+  const Eigen::Matrix3d R_WC = Eigen::Matrix3d::Identity();
+  tracker.start(Eigen::Vector3d::UnitZ(), R_WC, 0);
+  perception::FixatedRegion region;
+  region.valid = true;
+  region.cells = 60;
+  region.centroid_x_px = 30.0f;
+  for (int n = 1; n <= 11; ++n) {
+    tracker.update(frame_motion(n, 5, true), R_WC, n * kFramePeriodNs, region, {0, 0});
+  }
+  const Eigen::Vector3d d = tracker.direction_W(11 * kFramePeriodNs);
+  EXPECT_NEAR(kFocalPx * d.x() / d.z(), kSpeedPxPerFrame * 10, 0.3);
+  EXPECT_EQ(tracker.region_frames(), 0u);
+}
+
 }  // namespace
 }  // namespace cambio::control

@@ -151,6 +151,9 @@ class GazeLoop final : public hal::Loop {
   /// Vergence steps taken on kFaintAgreements faint readings in a row (before anything was verged
   /// on since the command).
   std::uint64_t faint_steps() const { return faint_steps_; }
+  /// Pursuit frames whose motion was measured one way only and completed by the fixated
+  /// object's region (PursuitTracker::region_frames).
+  std::uint64_t pursuit_region_frames() const { return pursuit_.region_frames(); }
   /// The head joints' tracking: frozen cycles, restarts, the largest lead, a fault. Read it from
   /// the loop's thread or after the executor stopped.
   const CommandTracking& tracking() const { return tracking_; }
@@ -246,6 +249,11 @@ class GazeLoop final : public hal::Loop {
   void update_belief(std::int64_t now_ns) noexcept;
   void publish(std::int64_t now_ns) noexcept;
   void request_features() noexcept;
+  /// The fixated object's region is computed while the eyes fixate (pursuit starts from the
+  /// last one) and pursue, or when another consumer asked for it.
+  bool wants_region() const noexcept {
+    return extra_features_.region || mode_ == Mode::kFixate || mode_ == Mode::kPursue;
+  }
 
   std::string name_ = "control";
   GazeLoopParams params_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string_view>
 #include <system_error>
 
 #include "cambio/sim/address_space_limit.hpp"
@@ -18,7 +19,7 @@ std::int64_t steady_now_ns() noexcept {
       .count();
 }
 
-void write_all(const std::string& text) noexcept {
+void write_all(std::string_view text) noexcept {
   std::size_t written = 0;
   while (written < text.size()) {
     const ssize_t n = ::write(STDERR_FILENO, text.data() + written, text.size() - written);
@@ -73,7 +74,12 @@ void RenderStallWatchdog::watch() {
   while (!wake_.wait_for(lock, poll, [this] { return stopping_; })) {
     const std::int64_t armed_at_ns = armed_at_ns_.load(std::memory_order_acquire);
     if (armed_at_ns == 0 || steady_now_ns() - armed_at_ns < stall_.count()) continue;
-    write_all("cambio: " + message_ + ", while " + step_.load(std::memory_order_relaxed) + "\n");
+    // In pieces: with the address space used up, building one string could itself fail.
+    write_all("cambio: ");
+    write_all(message_);
+    write_all(", while ");
+    write_all(step_.load(std::memory_order_relaxed));
+    write_all("\n");
     std::_Exit(EXIT_FAILURE);
   }
 }

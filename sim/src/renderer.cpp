@@ -131,6 +131,9 @@ Renderer::Renderer(const World& world)
 }
 
 Renderer::~Renderer() {
+  // Under an address-space limit llvmpipe's teardown can wait forever for a thread it could not
+  // start, as its start-up can (a run that failed to assemble then hung instead of saying so).
+  const RenderStallWatchdog::Scope watched(watchdog_.get(), "freeing the renderer");
   egl_.make_current();
   mjr_freeContext(context_.get());
   mjv_freeScene(scene_.get());
